@@ -1,0 +1,148 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/search/search.h>
+#include <pcl/surface/meshless/types.h>
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcl {
+namespace meshless {
+
+/** \brief How the unordered neighbourhood N(v) of a point is chosen (paper §2). */
+struct NeighbourhoodOptions
+{
+  /** \brief Number of nearest neighbours k (the paper: about 10-12). Used when
+    * radius is 0. Default 12. */
+  int k = 12;
+  /** \brief Ball radius r: N(v) = { w : 0 < |v - w| < r }. 0 (default) selects the
+    * k-nearest-neighbour variant. Same units as the cloud. */
+  double radius = 0.0;
+  /** \brief With a radius: keep at most this many neighbours, the nearest ones
+    * (0 = all). Default 0. */
+  int max_neighbours = 0;
+};
+
+/** \brief Directed neighbourhoods N(v): row v lists the neighbours of v, nearest
+  * first, never v itself. */
+struct Neighbourhoods : StageStatus
+{
+  CsrGraph neighbours;
+  /** \brief Points whose neighbourhood came out empty (isolated points). */
+  std::size_t num_empty = 0;
+};
+
+/** \brief Query N(v) for every point through PCL's search interface.
+  *
+  * \param[in] search a search object whose input cloud is the cloud that
+  *            `cloud_indices` index (as `MeshConstruction::tree_` after
+  *            `reconstruct` has set it up)
+  * \param[in] cloud_indices the points to reconstruct, as indices into the search's
+  *            input cloud; point i of the pipeline is `cloud_indices[i]`
+  * \param[in] options k or radius
+  * \return neighbourhoods in pipeline numbering (0 .. cloud_indices.size()-1);
+  *         results that are not among cloud_indices are dropped.
+  * \pre the search's input cloud is set and contains every index in cloud_indices
+  */
+template <typename PointT>
+Neighbourhoods
+searchNeighbourhoods (const pcl::search::Search<PointT>& search,
+                      const pcl::Indices& cloud_indices,
+                      const NeighbourhoodOptions& options);
+
+/** \brief The connectivity graph G of the paper: E = { [v,w] : w in N(v) or v in
+  * N(w) }, stored symmetrically (each edge in both rows), rows sorted ascending,
+  * without self loops or repeated entries.
+  * \param[in] neighbourhoods directed neighbourhoods of n vertices (entries must be
+  *            in [0, n); self entries are dropped)
+  */
+CsrGraph
+symmetricGraph (const CsrGraph& neighbourhoods);
+
+/** \brief Number of connected components of a symmetric graph, and each vertex's
+  * component label (0-based, in order of the smallest vertex of each component). */
+std::size_t
+connectedComponents (const CsrGraph& graph, std::vector<pcl::index_t>& labels);
+
+// ---------------------------------------------------------------------------
+
+template <typename PointT>
+Neighbourhoods
+searchNeighbourhoods (const pcl::search::Search<PointT>& search,
+                      const pcl::Indices& cloud_indices,
+                      const NeighbourhoodOptions& options)
+{
+  Neighbourhoods result;
+  const auto cloud = search.getInputCloud ();
+  if (!cloud) {
+    result.message = "the search object has no input cloud";
+    return result;
+  }
+  const bool use_radius = options.radius > 0.0;
+  if (!use_radius && options.k < 1) {
+    result.message = "the number of neighbours k must be at least 1";
+    return result;
+  }
+  if (!(options.radius >= 0.0) || !std::isfinite (options.radius)) {
+    result.message = "the search radius must be finite and not negative";
+    return result;
+  }
+
+  // Search results are cloud indices; the pipeline numbers its points 0..n-1.
+  std::vector<pcl::index_t> local_of (cloud->size (), -1);
+  for (std::size_t i = 0; i < cloud_indices.size (); ++i) {
+    const auto c = cloud_indices[i];
+    if (c < 0 || static_cast<std::size_t> (c) >= cloud->size ()) {
+      result.message = "a point index lies outside the input cloud";
+      return result;
+    }
+    local_of[c] = static_cast<pcl::index_t> (i);
+  }
+
+  const std::size_t n = cloud_indices.size ();
+  CsrGraph& g = result.neighbours;
+  g.offsets.assign (n + 1, 0);
+  g.adjacency.reserve (n * static_cast<std::size_t> (use_radius ? 16 : options.k));
+
+  pcl::Indices found;
+  std::vector<float> sqr_distances;
+  for (std::size_t i = 0; i < n; ++i) {
+    const auto query = cloud_indices[i];
+    if (use_radius) {
+      // Ask for one more than the cap: the query point itself is among the results.
+      const unsigned int cap =
+          options.max_neighbours > 0 ? static_cast<unsigned int> (options.max_neighbours + 1) : 0u;
+      search.radiusSearch ((*cloud)[query], options.radius, found, sqr_distances, cap);
+    }
+    else {
+      search.nearestKSearch ((*cloud)[query], options.k + 1, found, sqr_distances);
+    }
+    // PCL returns the results sorted by distance (sorted_results_ is true for the
+    // searches PCL builds). The query itself and exact duplicates come first.
+    int kept = 0;
+    const int limit = use_radius ? (options.max_neighbours > 0 ? options.max_neighbours
+                                                               : static_cast<int> (found.size ()))
+                                 : options.k;
+    for (std::size_t j = 0; j < found.size () && kept < limit; ++j) {
+      const auto w = local_of[found[j]];
+      if (w < 0 || static_cast<std::size_t> (w) == i)
+        continue;
+      if (use_radius && !(sqr_distances[j] < options.radius * options.radius))
+        continue;
+      g.adjacency.push_back (w);
+      ++kept;
+    }
+    if (kept == 0)
+      ++result.num_empty;
+    g.offsets[i + 1] = static_cast<pcl::index_t> (g.adjacency.size ());
+  }
+  result.success = true;
+  return result;
+}
+
+} // namespace meshless
+} // namespace pcl

@@ -1,0 +1,96 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/types.h>
+
+namespace pcl {
+namespace meshless {
+
+/** \brief How a neighbourhood is brought into a plane before it is ordered (§2). */
+enum class LocalPlane
+{
+  /** Least-squares plane of {v} and N(v); v and N(v) projected orthogonally into it
+    * (the paper's main variant; the plane is the one pcl::NormalEstimation fits). */
+  ProjectOntoFit,
+  /** Least-squares plane of N(v) moved through v; each neighbour rotated about v
+    * into it, so that its distance to v is kept (Gopi et al.). */
+  RotateIntoFit
+};
+
+struct OrderingOptions
+{
+  /** \brief Default: LocalPlane::ProjectOntoFit. */
+  LocalPlane plane = LocalPlane::ProjectOntoFit;
+};
+
+/** \brief Delaunay-ordered neighbourhoods N'(v) of every point. */
+struct OrderedNeighbourhoods : StageStatus
+{
+  /** \brief Row v: the neighbours of v that are joined to v in the Delaunay
+    * triangulation of the projected neighbourhood, counter-clockwise around
+    * normals[v]. */
+  CsrGraph rings;
+  /** \brief Unit normal of the plane each neighbourhood was ordered in. Its sign is
+    * arbitrary (the ring order is counter-clockwise around this sign). */
+  std::vector<Eigen::Vector3f> normals;
+  /** \brief Largest angle (radians) between consecutive ring members around v;
+    * at least pi when v lies on the convex hull of its projected neighbourhood
+    * (a boundary point of an open surface, or an uneven neighbourhood), 2 pi for
+    * rings of fewer than two members. */
+  std::vector<float> largest_gap;
+};
+
+/** \brief Unit normal of the least-squares plane of the given points, computed the
+  * way pcl::NormalEstimation does (centroid, covariance, pcl::solvePlaneParameters).
+  * \param[in] points the cloud
+  * \param[in] centre a point whose position is subtracted first (for precision)
+  * \param[in] begin,end indices of the points to fit
+  * \param[in] include_centre whether `centre` itself takes part in the fit
+  * \return the unit normal, or zero if fewer than three points were given
+  */
+Eigen::Vector3d
+leastSquaresNormal (const Points3& points,
+                    pcl::index_t centre,
+                    const pcl::index_t* begin,
+                    const pcl::index_t* end,
+                    bool include_centre);
+
+/** \brief Coordinates of the neighbours of v in the plane through v with the given
+  * normal, relative to v, in a right-handed frame (e1, e2, normal).
+  * \param[out] local  one 2D point per neighbour, in the order given
+  */
+void
+localCoordinates (const Points3& points,
+                  pcl::index_t v,
+                  const pcl::index_t* begin,
+                  const pcl::index_t* end,
+                  const Eigen::Vector3d& normal,
+                  LocalPlane plane,
+                  Points2& local);
+
+/** \brief The Delaunay neighbours of the origin among 2D points: the points whose
+  * Voronoi cell shares an edge of positive length with the origin's cell in the
+  * Voronoi diagram of {0} and the points.
+  * \param[in] local 2D points (none at the origin takes part)
+  * \param[out] ring positions into `local` of the Delaunay neighbours,
+  *             counter-clockwise by angle starting from the positive x axis
+  * \return the largest angular gap between consecutive ring members (radians)
+  */
+double
+delaunayRing (const Points2& local, std::vector<int>& ring);
+
+/** \brief Delaunay-order the neighbourhood of every point (paper §2).
+  * \param[in] points n points
+  * \param[in] candidates for each point the unordered neighbours to order (usually
+  *            the symmetric graph G)
+  */
+OrderedNeighbourhoods
+orderNeighbourhoods (const Points3& points,
+                     const CsrGraph& candidates,
+                     const OrderingOptions& options = {});
+
+} // namespace meshless
+} // namespace pcl

@@ -1,0 +1,82 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/neighbourhood_graph.h>
+
+#include <algorithm>
+
+namespace pcl {
+namespace meshless {
+
+CsrGraph
+symmetricGraph (const CsrGraph& neighbourhoods)
+{
+  const std::size_t n = neighbourhoods.size ();
+  CsrGraph graph;
+  if (n == 0)
+    return graph;
+
+  // Count each directed entry once in each direction, then fill both rows; sorting
+  // and de-duplicating every row afterwards merges [v,w] given by both N(v) and N(w).
+  std::vector<pcl::index_t> count (n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v)
+    for (const pcl::index_t* w = neighbourhoods.begin (v); w != neighbourhoods.end (v); ++w)
+      if (static_cast<std::size_t> (*w) != v) {
+        ++count[v + 1];
+        ++count[*w + 1];
+      }
+  for (std::size_t v = 0; v < n; ++v)
+    count[v + 1] += count[v];
+
+  std::vector<pcl::index_t> filled (count.begin (), count.end () - 1);
+  std::vector<pcl::index_t> entries (count[n]);
+  for (std::size_t v = 0; v < n; ++v)
+    for (const pcl::index_t* w = neighbourhoods.begin (v); w != neighbourhoods.end (v); ++w)
+      if (static_cast<std::size_t> (*w) != v) {
+        entries[filled[v]++] = *w;
+        entries[filled[*w]++] = static_cast<pcl::index_t> (v);
+      }
+
+  graph.offsets.assign (n + 1, 0);
+  graph.adjacency.reserve (entries.size () / 2 + n);
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto first = entries.begin () + count[v];
+    const auto last = entries.begin () + count[v + 1];
+    std::sort (first, last);
+    const auto unique_end = std::unique (first, last);
+    graph.adjacency.insert (graph.adjacency.end (), first, unique_end);
+    graph.offsets[v + 1] = static_cast<pcl::index_t> (graph.adjacency.size ());
+  }
+  graph.adjacency.shrink_to_fit ();
+  return graph;
+}
+
+std::size_t
+connectedComponents (const CsrGraph& graph, std::vector<pcl::index_t>& labels)
+{
+  const std::size_t n = graph.size ();
+  labels.assign (n, -1);
+  std::vector<pcl::index_t> stack;
+  pcl::index_t next_label = 0;
+  for (std::size_t seed = 0; seed < n; ++seed) {
+    if (labels[seed] >= 0)
+      continue;
+    labels[seed] = next_label;
+    stack.push_back (static_cast<pcl::index_t> (seed));
+    while (!stack.empty ()) {
+      const pcl::index_t v = stack.back ();
+      stack.pop_back ();
+      for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
+        if (labels[*w] < 0) {
+          labels[*w] = next_label;
+          stack.push_back (*w);
+        }
+    }
+    ++next_label;
+  }
+  return static_cast<std::size_t> (next_label);
+}
+
+} // namespace meshless
+} // namespace pcl

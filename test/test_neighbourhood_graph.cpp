@@ -1,0 +1,224 @@
+// Paper §2: neighbourhoods through PCL's search and the symmetric graph G.
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/surface/meshless/neighbourhood_graph.h>
+
+#include "test_support.h"
+
+#include <algorithm>
+#include <numeric>
+#include <random>
+#include <set>
+
+using namespace pcl::meshless;
+
+namespace {
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr
+randomCloud (std::size_t n, double scale, std::uint32_t seed)
+{
+  std::mt19937 random (seed);
+  std::uniform_real_distribution<float> u (-1.0f, 1.0f);
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  for (std::size_t i = 0; i < n; ++i)
+    cloud->push_back (pcl::PointXYZ (static_cast<float> (scale * u (random)),
+                                     static_cast<float> (scale * u (random)),
+                                     static_cast<float> (scale * u (random))));
+  return cloud;
+}
+
+pcl::Indices
+allIndices (std::size_t n)
+{
+  pcl::Indices indices (n);
+  std::iota (indices.begin (), indices.end (), 0);
+  return indices;
+}
+
+double
+sqrDistance (const pcl::PointXYZ& a, const pcl::PointXYZ& b)
+{
+  return (a.getVector3fMap () - b.getVector3fMap ()).cast<double> ().squaredNorm ();
+}
+
+/** Brute force: the sorted squared distances of the k nearest other points of
+  * `cloud[query]` among `members`. Comparing distances, not indices, makes the
+  * check independent of how ties are broken. */
+std::vector<double>
+bruteForceKnnDistances (const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                        const pcl::Indices& members,
+                        pcl::index_t query,
+                        int k)
+{
+  std::vector<double> d;
+  for (auto m : members)
+    if (m != query)
+      d.push_back (sqrDistance (cloud[query], cloud[m]));
+  std::sort (d.begin (), d.end ());
+  d.resize (std::min<std::size_t> (d.size (), k));
+  return d;
+}
+
+Neighbourhoods
+searchAll (const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
+           const pcl::Indices& members,
+           const NeighbourhoodOptions& options)
+{
+  pcl::search::KdTree<pcl::PointXYZ> tree;
+  tree.setInputCloud (cloud, pcl::make_shared<pcl::Indices> (members));
+  return searchNeighbourhoods (tree, members, options);
+}
+
+} // namespace
+
+TEST (NeighbourhoodGraph, KNearestAgreesWithBruteForce)
+{
+  const auto cloud = randomCloud (2000, 1.0, 7);
+  const auto members = allIndices (cloud->size ());
+  NeighbourhoodOptions options;
+  options.k = 12;
+  const Neighbourhoods result = searchAll (cloud, members, options);
+  ASSERT_TRUE (result.success) << result.message;
+  ASSERT_EQ (result.neighbours.size (), cloud->size ());
+  for (std::size_t v = 0; v < cloud->size (); ++v) {
+    ASSERT_EQ (result.neighbours.degree (v), 12);
+    std::vector<double> got;
+    for (auto w = result.neighbours.begin (v); w != result.neighbours.end (v); ++w) {
+      ASSERT_NE (static_cast<std::size_t> (*w), v) << "a point is its own neighbour";
+      got.push_back (sqrDistance ((*cloud)[v], (*cloud)[*w]));
+    }
+    EXPECT_TRUE (std::is_sorted (got.begin (), got.end ())) << "not nearest first";
+    const auto expected = bruteForceKnnDistances (*cloud, members, v, 12);
+    for (int j = 0; j < 12; ++j)
+      ASSERT_NEAR (got[j], expected[j], 1e-6 * expected[j] + 1e-12) << "point " << v;
+  }
+}
+
+TEST (NeighbourhoodGraph, BallAgreesWithBruteForce)
+{
+  const auto cloud = randomCloud (1500, 1.0, 11);
+  const auto members = allIndices (cloud->size ());
+  NeighbourhoodOptions options;
+  options.radius = 0.2;
+  const Neighbourhoods result = searchAll (cloud, members, options);
+  ASSERT_TRUE (result.success) << result.message;
+  for (std::size_t v = 0; v < cloud->size (); ++v) {
+    std::set<pcl::index_t> got (result.neighbours.begin (v), result.neighbours.end (v));
+    std::set<pcl::index_t> expected;
+    for (auto m : members)
+      if (static_cast<std::size_t> (m) != v &&
+          sqrDistance ((*cloud)[v], (*cloud)[m]) < options.radius * options.radius)
+        expected.insert (m);
+    // Points within float rounding of the sphere may go either way; there are
+    // none in a random cloud at this size, so the sets must agree exactly.
+    ASSERT_EQ (got, expected) << "point " << v;
+  }
+}
+
+TEST (NeighbourhoodGraph, SubsetIsRenumbered)
+{
+  const auto cloud = randomCloud (1000, 1.0, 3);
+  pcl::Indices members;
+  for (pcl::index_t i = 0; i < 1000; i += 3)
+    members.push_back (i);
+  NeighbourhoodOptions options;
+  options.k = 8;
+  const Neighbourhoods result = searchAll (cloud, members, options);
+  ASSERT_TRUE (result.success) << result.message;
+  ASSERT_EQ (result.neighbours.size (), members.size ());
+  for (std::size_t v = 0; v < members.size (); ++v) {
+    std::vector<double> got;
+    for (auto w = result.neighbours.begin (v); w != result.neighbours.end (v); ++w) {
+      ASSERT_GE (*w, 0);
+      ASSERT_LT (static_cast<std::size_t> (*w), members.size ());
+      got.push_back (sqrDistance ((*cloud)[members[v]], (*cloud)[members[*w]]));
+    }
+    const auto expected = bruteForceKnnDistances (*cloud, members, members[v], 8);
+    ASSERT_EQ (got.size (), expected.size ());
+    for (std::size_t j = 0; j < got.size (); ++j)
+      ASSERT_NEAR (got[j], expected[j], 1e-6 * expected[j] + 1e-12);
+  }
+}
+
+TEST (NeighbourhoodGraph, ScaleInvariant)
+{
+  const auto cloud = randomCloud (800, 1.0, 5);
+  const auto members = allIndices (cloud->size ());
+  NeighbourhoodOptions options;
+  options.k = 10;
+  const Neighbourhoods reference = searchAll (cloud, members, options);
+  for (double scale : {1e-4, 1e4}) {
+    auto scaled = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> (*cloud);
+    for (auto& p : *scaled)
+      p.getVector3fMap () *= static_cast<float> (scale);
+    const Neighbourhoods result = searchAll (scaled, members, options);
+    ASSERT_TRUE (result.success);
+    for (std::size_t v = 0; v < cloud->size (); ++v) {
+      std::set<pcl::index_t> a (reference.neighbours.begin (v), reference.neighbours.end (v));
+      std::set<pcl::index_t> b (result.neighbours.begin (v), result.neighbours.end (v));
+      EXPECT_EQ (a, b) << "scale " << scale << ", point " << v;
+    }
+  }
+}
+
+TEST (NeighbourhoodGraph, SymmetricGraphIsTheUnionOfBothDirections)
+{
+  const auto cloud = randomCloud (3000, 1.0, 9);
+  const auto members = allIndices (cloud->size ());
+  const Neighbourhoods nb = searchAll (cloud, members, {});
+  ASSERT_TRUE (nb.success);
+  const CsrGraph g = symmetricGraph (nb.neighbours);
+  ASSERT_EQ (g.size (), cloud->size ());
+
+  std::set<std::pair<pcl::index_t, pcl::index_t>> expected;
+  for (std::size_t v = 0; v < nb.neighbours.size (); ++v)
+    for (auto w = nb.neighbours.begin (v); w != nb.neighbours.end (v); ++w) {
+      expected.emplace (static_cast<pcl::index_t> (v), *w);
+      expected.emplace (*w, static_cast<pcl::index_t> (v));
+    }
+  std::set<std::pair<pcl::index_t, pcl::index_t>> got;
+  for (std::size_t v = 0; v < g.size (); ++v) {
+    EXPECT_TRUE (std::is_sorted (g.begin (v), g.end (v)));
+    EXPECT_EQ (std::adjacent_find (g.begin (v), g.end (v)), g.end (v)) << "repeated entry";
+    for (auto w = g.begin (v); w != g.end (v); ++w) {
+      EXPECT_NE (static_cast<std::size_t> (*w), v) << "self loop";
+      got.emplace (static_cast<pcl::index_t> (v), *w);
+    }
+  }
+  EXPECT_EQ (got, expected);
+  EXPECT_GE (g.numEntries (), nb.neighbours.numEntries ()); // never loses an edge
+}
+
+TEST (NeighbourhoodGraph, SymmetricGraphDropsSelfLoopsAndRepeats)
+{
+  CsrGraph directed;
+  directed.offsets = {0, 3, 4, 5};
+  directed.adjacency = {0, 1, 1, 0, 2}; // 0: {0,1,1}, 1: {0}, 2: {2}
+  const CsrGraph g = symmetricGraph (directed);
+  ASSERT_EQ (g.size (), 3u);
+  EXPECT_EQ (std::vector<pcl::index_t> (g.begin (0), g.end (0)), std::vector<pcl::index_t>{1});
+  EXPECT_EQ (std::vector<pcl::index_t> (g.begin (1), g.end (1)), std::vector<pcl::index_t>{0});
+  EXPECT_EQ (g.degree (2), 0);
+}
+
+TEST (NeighbourhoodGraph, ComponentsOfTwoSeparateClusters)
+{
+  auto cloud = randomCloud (400, 1.0, 4);
+  for (std::size_t i = 200; i < 400; ++i)
+    (*cloud)[i].x += 100.0f; // far away: kNN never crosses
+  const Neighbourhoods nb = searchAll (cloud, allIndices (400), {});
+  std::vector<pcl::index_t> labels;
+  EXPECT_EQ (connectedComponents (symmetricGraph (nb.neighbours), labels), 2u);
+  EXPECT_NE (labels[0], labels[399]);
+}
+
+TEST (NeighbourhoodGraph, RejectsBadParameters)
+{
+  const auto cloud = randomCloud (50, 1.0, 1);
+  NeighbourhoodOptions options;
+  options.k = 0;
+  EXPECT_FALSE (searchAll (cloud, allIndices (50), options).success);
+  options.k = 12;
+  options.radius = -1.0;
+  EXPECT_FALSE (searchAll (cloud, allIndices (50), options).success);
+}

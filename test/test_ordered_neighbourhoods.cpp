@@ -1,0 +1,232 @@
+// Paper §2: least-squares planes and Delaunay-ordered neighbourhoods.
+#include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/meshless/ordered_neighbourhoods.h>
+#include <pcl/surface/meshless/synthetic_clouds.h>
+
+#include "test_support.h"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+
+using namespace pcl::meshless;
+
+namespace {
+
+constexpr double pi = 3.14159265358979323846;
+
+/** Brute-force kNN graph (the stage under test gets it from PCL in the conductor;
+  * here the input must not depend on PCL's search). */
+CsrGraph
+bruteForceGraph (const Points3& points, int k)
+{
+  CsrGraph directed;
+  directed.offsets.push_back (0);
+  std::vector<std::pair<double, pcl::index_t>> d;
+  for (std::size_t v = 0; v < points.size (); ++v) {
+    d.clear ();
+    for (std::size_t w = 0; w < points.size (); ++w)
+      if (w != v)
+        d.emplace_back ((points[w] - points[v]).squaredNorm (), static_cast<pcl::index_t> (w));
+    std::partial_sort (d.begin (), d.begin () + k, d.end ());
+    for (int j = 0; j < k; ++j)
+      directed.adjacency.push_back (d[j].second);
+    directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
+  }
+  return symmetricGraph (directed);
+}
+
+double
+cross (const Eigen::Vector2d& a, const Eigen::Vector2d& b)
+{
+  return a.x () * b.y () - a.y () * b.x ();
+}
+
+/** Brute force: q_i is a Delaunay neighbour of the origin iff some triangle
+  * (0, q_i, q_j) has an empty circumcircle, or [0, q_i] is a hull edge. */
+std::vector<int>
+bruteForceDelaunayNeighbours (const Points2& q)
+{
+  const int n = static_cast<int> (q.size ());
+  auto inCircle = [] (const Eigen::Vector2d& a, const Eigen::Vector2d& b,
+                      const Eigen::Vector2d& c, const Eigen::Vector2d& p) {
+    // Lifted orientation of (0, a, b, p): negative iff p lies inside the circle
+    // through the origin, a and b (counter-clockwise); c unused for clarity.
+    (void) c;
+    const double det = a.squaredNorm () * cross (b, p) - b.squaredNorm () * cross (a, p) +
+                       p.squaredNorm () * cross (a, b);
+    return det < 0.0;
+  };
+  std::vector<int> result;
+  for (int i = 0; i < n; ++i) {
+    bool neighbour = false;
+    for (int j = 0; j < n && !neighbour; ++j) {
+      if (j == i)
+        continue;
+      const Eigen::Vector2d& a = cross (q[i], q[j]) > 0.0 ? q[i] : q[j];
+      const Eigen::Vector2d& b = cross (q[i], q[j]) > 0.0 ? q[j] : q[i];
+      if (cross (a, b) == 0.0)
+        continue;
+      bool empty = true;
+      for (int m = 0; m < n && empty; ++m)
+        if (m != i && m != j && inCircle (a, b, b, q[m]))
+          empty = false;
+      neighbour = empty;
+    }
+    if (!neighbour) { // hull edge [0, q_i]: every other point on one side
+      bool left = true, right = true;
+      for (int m = 0; m < n; ++m)
+        if (m != i) {
+          left = left && cross (q[i], q[m]) > 0.0;
+          right = right && cross (q[i], q[m]) < 0.0;
+        }
+      neighbour = left || right;
+    }
+    if (neighbour)
+      result.push_back (i);
+  }
+  return result;
+}
+
+} // namespace
+
+TEST (OrderedNeighbourhoods, RingOfARegularHexagonIsItsSixCorners)
+{
+  Points2 local;
+  for (int j = 0; j < 6; ++j) // hexagon, listed clockwise to test the sorting
+    local.emplace_back (std::cos (-j * pi / 3.0 + 0.1), std::sin (-j * pi / 3.0 + 0.1));
+  for (int j = 0; j < 6; ++j) // second ring hidden behind the first
+    local.emplace_back (2.2 * std::cos (j * pi / 3.0 + 0.1), 2.2 * std::sin (j * pi / 3.0 + 0.1));
+  std::vector<int> ring;
+  const double gap = delaunayRing (local, ring);
+  ASSERT_EQ (ring.size (), 6u);
+  for (int r : ring)
+    EXPECT_LT (r, 6) << "an outer point is not a Delaunay neighbour";
+  for (std::size_t j = 0; j < 6; ++j)
+    EXPECT_GT (cross (local[ring[j]], local[ring[(j + 1) % 6]]), 0.0) << "not counter-clockwise";
+  EXPECT_NEAR (gap, pi / 3.0, 1e-12);
+}
+
+TEST (OrderedNeighbourhoods, RingMatchesBruteForceDelaunay)
+{
+  std::mt19937 random (42);
+  std::uniform_real_distribution<double> u (-1.0, 1.0);
+  for (int trial = 0; trial < 2000; ++trial) {
+    Points2 local (4 + trial % 16);
+    for (auto& q : local)
+      q = Eigen::Vector2d (u (random), u (random));
+    std::vector<int> ring;
+    delaunayRing (local, ring);
+    std::vector<int> sorted_ring = ring;
+    std::sort (sorted_ring.begin (), sorted_ring.end ());
+    EXPECT_EQ (sorted_ring, bruteForceDelaunayNeighbours (local)) << "trial " << trial;
+    for (std::size_t j = 0; j + 1 < ring.size (); ++j) {
+      const double a0 = std::atan2 (local[ring[j]].y (), local[ring[j]].x ());
+      const double a1 = std::atan2 (local[ring[j + 1]].y (), local[ring[j + 1]].x ());
+      EXPECT_LT (a0 < 0 ? a0 + 2 * pi : a0, a1 < 0 ? a1 + 2 * pi : a1) << "not ordered";
+    }
+  }
+}
+
+TEST (OrderedNeighbourhoods, SphereRingsAreClosedCounterClockwiseStarsAroundRadialNormals)
+{
+  const Points3 points = sampleShape (SyntheticShape::Sphere, {3000, 3, 0.0});
+  const CsrGraph graph = bruteForceGraph (points, 12);
+  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
+  ASSERT_TRUE (ordered.success) << ordered.message;
+  ASSERT_EQ (ordered.rings.size (), points.size ());
+  Points2 local;
+  for (std::size_t v = 0; v < points.size (); ++v) {
+    const auto vi = static_cast<pcl::index_t> (v);
+    const Eigen::Vector3d n = ordered.normals[v].cast<double> ();
+    EXPECT_GT (std::abs (n.dot (points[v].normalized ())), 0.99) << "normal not radial";
+    const int d = ordered.rings.degree (vi);
+    EXPECT_GE (d, 4);
+    EXPECT_LE (d, 10);
+    EXPECT_LT (ordered.largest_gap[v], pi) << "an interior point of a closed surface";
+    localCoordinates (points, vi, ordered.rings.begin (vi), ordered.rings.end (vi), n,
+                      LocalPlane::ProjectOntoFit, local);
+    for (int j = 0; j < d; ++j) // cyclic and counter-clockwise, wrapping around
+      EXPECT_GT (cross (local[j], local[(j + 1) % d]), 0.0) << "point " << v;
+    for (auto w = ordered.rings.begin (vi); w != ordered.rings.end (vi); ++w)
+      EXPECT_TRUE (std::binary_search (graph.begin (vi), graph.end (vi), *w))
+          << "ring member outside the candidates";
+  }
+}
+
+TEST (OrderedNeighbourhoods, StableUnderRotationScalingAndBothPlaneVariants)
+{
+  const Points3 points = sampleShape (SyntheticShape::BumpySphere, {1500, 5, 0.0});
+  const CsrGraph graph = bruteForceGraph (points, 12);
+  const Eigen::Matrix3d rotation =
+      Eigen::AngleAxisd (0.7, Eigen::Vector3d (1, 2, 3).normalized ()).toRotationMatrix ();
+  for (LocalPlane plane : {LocalPlane::ProjectOntoFit, LocalPlane::RotateIntoFit}) {
+    const OrderedNeighbourhoods reference = orderNeighbourhoods (points, graph, {plane});
+    for (double scale : {1e-4, 1.0, 1e4}) {
+      Points3 moved;
+      for (const auto& p : points)
+        moved.push_back (scale * (rotation * p) + Eigen::Vector3d (3, -2, 5) * scale);
+      const OrderedNeighbourhoods result = orderNeighbourhoods (moved, graph, {plane});
+      for (std::size_t v = 0; v < points.size (); ++v) {
+        std::vector<pcl::index_t> a (reference.rings.begin (v), reference.rings.end (v));
+        std::vector<pcl::index_t> b (result.rings.begin (v), result.rings.end (v));
+        ASSERT_EQ (a.size (), b.size ()) << "point " << v << " scale " << scale;
+        if (a.empty ())
+          continue;
+        // Same cycle: b is a rotation of a, or of a reversed (the normal's sign is
+        // arbitrary).
+        auto start = std::find (b.begin (), b.end (), a.front ());
+        ASSERT_NE (start, b.end ());
+        std::rotate (b.begin (), start, b.end ());
+        std::vector<pcl::index_t> reversed (a.size ());
+        reversed[0] = a[0];
+        std::reverse_copy (a.begin () + 1, a.end (), reversed.begin () + 1);
+        EXPECT_TRUE (a == b || reversed == b) << "point " << v << " scale " << scale;
+      }
+    }
+  }
+}
+
+TEST (OrderedNeighbourhoods, BoundaryOfAnOpenDiscHasAGapOfAtLeastPi)
+{
+  const std::size_t n = 2000;
+  const Points3 points = sampleShape (SyntheticShape::Disc, {n, 2, 0.0});
+  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, bruteForceGraph (points, 12));
+  ASSERT_TRUE (ordered.success);
+  const double spacing = std::sqrt (pi / static_cast<double> (n));
+  std::vector<double> rim_angles;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (ordered.largest_gap[v] < pi)
+      continue;
+    EXPECT_GT (points[v].head<2> ().norm (), 1.0 - 2.0 * spacing)
+        << "point " << v << " well inside the disc is not surrounded by its ring";
+    rim_angles.push_back (std::atan2 (points[v].y (), points[v].x ()));
+  }
+  // The flagged points go all the way round the rim.
+  ASSERT_GE (rim_angles.size (), 20u);
+  std::sort (rim_angles.begin (), rim_angles.end ());
+  double widest = 2.0 * pi - (rim_angles.back () - rim_angles.front ());
+  for (std::size_t j = 1; j < rim_angles.size (); ++j)
+    widest = std::max (widest, rim_angles[j] - rim_angles[j - 1]);
+  EXPECT_LT (widest, pi / 8.0);
+}
+
+TEST (OrderedNeighbourhoods, LeastSquaresNormalOfAPlane)
+{
+  Points3 points;
+  std::mt19937 random (1);
+  std::uniform_real_distribution<double> u (-1.0, 1.0);
+  const Eigen::Vector3d n = Eigen::Vector3d (0.3, -0.5, 0.8).normalized ();
+  const Eigen::Vector3d a = n.unitOrthogonal (), b = n.cross (a);
+  for (int i = 0; i < 20; ++i)
+    points.push_back (u (random) * a + u (random) * b);
+  std::vector<pcl::index_t> others;
+  for (pcl::index_t i = 1; i < 20; ++i)
+    others.push_back (i);
+  const Eigen::Vector3d fit =
+      leastSquaresNormal (points, 0, others.data (), others.data () + others.size (), true);
+  EXPECT_NEAR (std::abs (fit.dot (n)), 1.0, 1e-6);
+  EXPECT_TRUE (leastSquaresNormal (points, 0, others.data (), others.data () + 1, true).isZero ());
+}
