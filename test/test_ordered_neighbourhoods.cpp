@@ -17,26 +17,6 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-/** Brute-force kNN graph (the stage under test gets it from PCL in the conductor;
-  * here the input must not depend on PCL's search). */
-CsrGraph
-bruteForceGraph (const Points3& points, int k)
-{
-  CsrGraph directed;
-  directed.offsets.push_back (0);
-  std::vector<std::pair<double, pcl::index_t>> d;
-  for (std::size_t v = 0; v < points.size (); ++v) {
-    d.clear ();
-    for (std::size_t w = 0; w < points.size (); ++w)
-      if (w != v)
-        d.emplace_back ((points[w] - points[v]).squaredNorm (), static_cast<pcl::index_t> (w));
-    std::partial_sort (d.begin (), d.begin () + k, d.end ());
-    for (int j = 0; j < k; ++j)
-      directed.adjacency.push_back (d[j].second);
-    directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
-  }
-  return symmetricGraph (directed);
-}
 
 double
 cross (const Eigen::Vector2d& a, const Eigen::Vector2d& b)
@@ -133,7 +113,7 @@ TEST (OrderedNeighbourhoods, RingMatchesBruteForceDelaunay)
 TEST (OrderedNeighbourhoods, SphereRingsAreClosedCounterClockwiseStarsAroundRadialNormals)
 {
   const Points3 points = sampleShape (SyntheticShape::Sphere, {3000, 3, 0.0});
-  const CsrGraph graph = bruteForceGraph (points, 12);
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
   const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
   ASSERT_TRUE (ordered.success) << ordered.message;
   ASSERT_EQ (ordered.rings.size (), points.size ());
@@ -159,7 +139,7 @@ TEST (OrderedNeighbourhoods, SphereRingsAreClosedCounterClockwiseStarsAroundRadi
 TEST (OrderedNeighbourhoods, StableUnderRotationScalingAndBothPlaneVariants)
 {
   const Points3 points = sampleShape (SyntheticShape::BumpySphere, {1500, 5, 0.0});
-  const CsrGraph graph = bruteForceGraph (points, 12);
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
   const Eigen::Matrix3d rotation =
       Eigen::AngleAxisd (0.7, Eigen::Vector3d (1, 2, 3).normalized ()).toRotationMatrix ();
   for (LocalPlane plane : {LocalPlane::ProjectOntoFit, LocalPlane::RotateIntoFit}) {
@@ -193,7 +173,7 @@ TEST (OrderedNeighbourhoods, BoundaryOfAnOpenDiscHasAGapOfAtLeastPi)
 {
   const std::size_t n = 2000;
   const Points3 points = sampleShape (SyntheticShape::Disc, {n, 2, 0.0});
-  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, bruteForceGraph (points, 12));
+  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, meshless_test::bruteForceKnnGraph (points, 12));
   ASSERT_TRUE (ordered.success);
   const double spacing = std::sqrt (pi / static_cast<double> (n));
   std::vector<double> rim_angles;

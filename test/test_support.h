@@ -1,10 +1,12 @@
 // Helpers shared by the tests: data location, brute-force references.
 #pragma once
 
+#include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/types.h>
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -38,5 +40,27 @@ sharedFile (const std::string& relative)
   const std::string var = meshless_test::sharedFile (relative);                       \
   if (var.empty ())                                                                    \
   GTEST_SKIP () << "shared data not found: " << relative
+
+/** The symmetric k-nearest-neighbour graph by brute force, for stage tests that
+  * must not depend on PCL's search (the conductor gets it through PCL). */
+inline pcl::meshless::CsrGraph
+bruteForceKnnGraph (const pcl::meshless::Points3& points, int k)
+{
+  pcl::meshless::CsrGraph directed;
+  directed.offsets.push_back (0);
+  std::vector<std::pair<double, pcl::index_t>> d;
+  for (std::size_t v = 0; v < points.size (); ++v) {
+    d.clear ();
+    for (std::size_t w = 0; w < points.size (); ++w)
+      if (w != v)
+        d.emplace_back ((points[w] - points[v]).squaredNorm (), static_cast<pcl::index_t> (w));
+    const std::size_t kk = std::min<std::size_t> (k, d.size ());
+    std::partial_sort (d.begin (), d.begin () + kk, d.end ());
+    for (std::size_t j = 0; j < kk; ++j)
+      directed.adjacency.push_back (d[j].second);
+    directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
+  }
+  return pcl::meshless::symmetricGraph (directed);
+}
 
 } // namespace meshless_test

@@ -43,24 +43,6 @@ randomStarRing (std::mt19937& random, int d)
   }
 }
 
-CsrGraph
-bruteForceGraph (const Points3& points, int k)
-{
-  CsrGraph directed;
-  directed.offsets.push_back (0);
-  std::vector<std::pair<double, pcl::index_t>> d;
-  for (std::size_t v = 0; v < points.size (); ++v) {
-    d.clear ();
-    for (std::size_t w = 0; w < points.size (); ++w)
-      if (w != v)
-        d.emplace_back ((points[w] - points[v]).squaredNorm (), static_cast<pcl::index_t> (w));
-    std::partial_sort (d.begin (), d.begin () + k, d.end ());
-    for (int j = 0; j < k; ++j)
-      directed.adjacency.push_back (d[j].second);
-    directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
-  }
-  return symmetricGraph (directed);
-}
 
 void
 expectConvexCombination (const std::vector<double>& lambda, std::size_t d)
@@ -134,7 +116,7 @@ TEST (Weights, RingsThatDoNotSurroundTheOriginAreRefused)
 TEST (Weights, EveryTypeGivesConvexCombinationsOnASphere)
 {
   const Points3 points = sampleShape (SyntheticShape::BumpySphere, {2000, 8, 0.0});
-  const CsrGraph graph = bruteForceGraph (points, 12);
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
   const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
   ASSERT_TRUE (ordered.success);
   for (WeightType type : {WeightType::Uniform, WeightType::ReciprocalDistance,
@@ -178,7 +160,7 @@ TEST (Weights, LinearPrecisionOnATiltedPlanarCloudThroughTheWholeStage)
         Eigen::AngleAxisd (0.6, Eigen::Vector3d (1, -1, 0.3).normalized ()).toRotationMatrix ();
     for (auto& p : points)
       p = scale * (tilt * p + Eigen::Vector3d (10, 20, -5));
-    const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, bruteForceGraph (points, 12));
+    const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, meshless_test::bruteForceKnnGraph (points, 12));
     for (WeightType type : {WeightType::MeanValue, WeightType::ShapePreserving}) {
       const Weights weights = computeWeights (points, ordered.rings, ordered.normals, {type});
       ASSERT_TRUE (weights.success);

@@ -1,0 +1,115 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/types.h>
+#include <pcl/surface/meshless/weights.h>
+
+#include <Eigen/SparseCore>
+
+namespace pcl {
+namespace meshless {
+
+/** \brief Chord-length positions of a closed boundary loop on the unit circle:
+  * t_k = (length of the loop up to point k) / (length of the loop),
+  * u_k = (cos 2 pi t_k, sin 2 pi t_k), counter-clockwise in loop order.
+  * Every point then lies on the convex hull of all parameter points, so consecutive
+  * boundary points are joined by Delaunay edges.
+  * \param[in] loop point indices in cyclic order (the last joins the first)
+  * \note zero-length loop edges get a small share of the circle (a fraction of the
+  *       mean edge length) so that no two boundary points coincide.
+  */
+Points2
+circleBoundary (const Points3& points, const std::vector<pcl::index_t>& loop);
+
+/** \brief Positions of a boundary loop on a convex polygon: the loop points at
+  * `corner_positions[c]` (positions into `loop`, increasing) go to the polygon's
+  * corners, the points between two corners go onto that side by chord length.
+  * \param[in] corners the polygon's corners, counter-clockwise, strictly convex
+  * \return one position per loop point, or an empty array if the corner data is
+  *         inconsistent (sizes, order, fewer than three corners)
+  * \note points on a straight side are collinear; the exact Delaunay stage keeps
+  *       every one of them as a hull vertex, so the chain still appears as edges.
+  */
+Points2
+polygonBoundary (const Points3& points,
+                 const std::vector<pcl::index_t>& loop,
+                 const std::vector<std::size_t>& corner_positions,
+                 const Points2& corners);
+
+/** \brief The linear system of the meshless parameterization of one patch:
+  * u_i - sum_{j interior} lambda_ij u_j = sum_{j boundary} lambda_ij u_j
+  * for every interior point i, weights restricted to the patch and renormalised. */
+struct MeshlessSystem : StageStatus
+{
+  /** \brief I - Lambda over the interior points (a non-symmetric M-matrix). */
+  Eigen::SparseMatrix<double, Eigen::RowMajor> matrix;
+  /** \brief Two right-hand sides (u and v), one row per interior point. */
+  Eigen::MatrixX2d rhs;
+  /** \brief Patch point position (into patch_points) of each unknown. */
+  std::vector<pcl::index_t> interior;
+  /** \brief Per patch point: its unknown's row, or -1 for boundary points. */
+  std::vector<pcl::index_t> unknown_of;
+};
+
+/** \brief Build the system of one patch.
+  * \param[in] weights weights of all points (global numbering)
+  * \param[in] patch_points the patch's points (global indices), each once; the
+  *            boundary loop's points must be among them
+  * \param[in] boundary_loop the boundary in cyclic order (global indices)
+  * \param[in] boundary_uv parameter position of each boundary loop point
+  * \return fails if an interior point has no neighbour inside the patch, or no
+  *         directed path to the boundary (the system would be singular)
+  */
+MeshlessSystem
+buildMeshlessSystem (const Weights& weights,
+                     const std::vector<pcl::index_t>& patch_points,
+                     const std::vector<pcl::index_t>& boundary_loop,
+                     const Points2& boundary_uv);
+
+enum class SparseSolver
+{
+  /** Eigen::SparseLU with COLAMD ordering: direct, robust, default. */
+  SparseLU,
+  /** Eigen::BiCGSTAB with an incomplete LU (ILUT) preconditioner. */
+  BiCGSTAB
+};
+
+struct SolveOptions
+{
+  /** \brief Default: SparseSolver::SparseLU (measured faster and more robust on
+    * patches of clouds up to 1M points; see README). */
+  SparseSolver solver = SparseSolver::SparseLU;
+  /** \brief Relative residual the iterative solver must reach. Default 1e-10. */
+  double tolerance = 1e-10;
+  /** \brief Iteration cap of the iterative solver. Default 5000. */
+  int max_iterations = 5000;
+};
+
+/** \brief Parameter points of one patch. */
+struct Parameterization : StageStatus
+{
+  /** \brief One parameter point per patch point, in the order of patch_points. */
+  Points2 uv;
+  /** \brief Relative residual |A x - b| / |b| of the solution, both coordinates. */
+  double residual = 0.0;
+  /** \brief Iterations of the iterative solver (0 for the direct one). */
+  int iterations = 0;
+};
+
+/** \brief Solve a system built by buildMeshlessSystem.
+  * \return fails (with a message) on a singular matrix, non-convergence, a
+  *         residual above tolerance or non-finite parameter points; never returns
+  *         a garbage map as success.
+  */
+Parameterization
+solveMeshlessSystem (const MeshlessSystem& system,
+                     const std::vector<pcl::index_t>& patch_points,
+                     const std::vector<pcl::index_t>& boundary_loop,
+                     const Points2& boundary_uv,
+                     const SolveOptions& options = {});
+
+} // namespace meshless
+} // namespace pcl

@@ -1,0 +1,288 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/parameterization.h>
+
+#include <Eigen/IterativeLinearSolvers>
+#include <Eigen/SparseLU>
+
+#include <cmath>
+#include <unordered_map>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+constexpr double two_pi = 6.283185307179586476925286766559;
+
+/** Lengths of the loop's edges (edge k joins loop[k] and loop[k+1]), with
+  * zero-length edges lifted to a small share so that positions stay distinct. */
+std::vector<double>
+loopEdgeLengths (const Points3& points, const std::vector<pcl::index_t>& loop)
+{
+  const std::size_t m = loop.size ();
+  std::vector<double> length (m);
+  double total = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    length[k] = (points[loop[(k + 1) % m]] - points[loop[k]]).norm ();
+    total += length[k];
+  }
+  const double floor_length = total > 0.0 ? 1e-3 * total / static_cast<double> (m) : 1.0;
+  for (double& l : length)
+    l = std::max (l, floor_length);
+  return length;
+}
+
+} // namespace
+
+Points2
+circleBoundary (const Points3& points, const std::vector<pcl::index_t>& loop)
+{
+  const std::size_t m = loop.size ();
+  Points2 uv (m);
+  if (m == 0)
+    return uv;
+  const std::vector<double> length = loopEdgeLengths (points, loop);
+  double total = 0.0;
+  for (double l : length)
+    total += l;
+  double walked = 0.0;
+  for (std::size_t k = 0; k < m; ++k) {
+    const double angle = two_pi * walked / total;
+    uv[k] = Eigen::Vector2d (std::cos (angle), std::sin (angle));
+    walked += length[k];
+  }
+  return uv;
+}
+
+Points2
+polygonBoundary (const Points3& points,
+                 const std::vector<pcl::index_t>& loop,
+                 const std::vector<std::size_t>& corner_positions,
+                 const Points2& corners)
+{
+  const std::size_t m = loop.size ();
+  const std::size_t c = corners.size ();
+  if (c < 3 || corner_positions.size () != c || m < c)
+    return {};
+  for (std::size_t i = 0; i < c; ++i) {
+    if (corner_positions[i] >= m || (i > 0 && corner_positions[i] <= corner_positions[i - 1]))
+      return {};
+    const Eigen::Vector2d e0 = corners[(i + 1) % c] - corners[i];
+    const Eigen::Vector2d e1 = corners[(i + 2) % c] - corners[(i + 1) % c];
+    if (!(e0.x () * e1.y () - e0.y () * e1.x () > 0.0))
+      return {}; // not strictly convex, counter-clockwise
+  }
+  const std::vector<double> length = loopEdgeLengths (points, loop);
+  Points2 uv (m);
+  for (std::size_t i = 0; i < c; ++i) {
+    // Side i runs from corner i to corner i+1 over loop positions
+    // corner_positions[i] .. corner_positions[i+1] (cyclically).
+    const std::size_t first = corner_positions[i];
+    const std::size_t last = corner_positions[(i + 1) % c] + (i + 1 == c ? m : 0);
+    double side = 0.0;
+    for (std::size_t k = first; k < last; ++k)
+      side += length[k % m];
+    double walked = 0.0;
+    for (std::size_t k = first; k < last; ++k) {
+      const double t = walked / side;
+      uv[k % m] = (1.0 - t) * corners[i] + t * corners[(i + 1) % c];
+      walked += length[k % m];
+    }
+  }
+  return uv;
+}
+
+MeshlessSystem
+buildMeshlessSystem (const Weights& weights,
+                     const std::vector<pcl::index_t>& patch_points,
+                     const std::vector<pcl::index_t>& boundary_loop,
+                     const Points2& boundary_uv)
+{
+  MeshlessSystem system;
+  const std::size_t m = patch_points.size ();
+  if (boundary_loop.size () < 3 || boundary_uv.size () != boundary_loop.size ()) {
+    system.message = "a patch needs a boundary loop of at least three points, each with "
+                     "a parameter position";
+    return system;
+  }
+
+  // Patch-local numbering. A hash map keeps the cost proportional to the patch,
+  // not to the whole cloud, when a cloud is cut into many patches.
+  std::unordered_map<pcl::index_t, pcl::index_t> local_of;
+  local_of.reserve (2 * m);
+  for (std::size_t i = 0; i < m; ++i)
+    if (!local_of.emplace (patch_points[i], static_cast<pcl::index_t> (i)).second) {
+      system.message = "a point is listed twice in the patch";
+      return system;
+    }
+  std::vector<pcl::index_t> boundary_slot (m, -1); // position in the boundary loop
+  for (std::size_t k = 0; k < boundary_loop.size (); ++k) {
+    const auto it = local_of.find (boundary_loop[k]);
+    if (it == local_of.end () || boundary_slot[it->second] >= 0) {
+      system.message = "a boundary point is missing from the patch or repeated in the loop";
+      return system;
+    }
+    boundary_slot[it->second] = static_cast<pcl::index_t> (k);
+  }
+
+  system.unknown_of.assign (m, -1);
+  for (std::size_t i = 0; i < m; ++i)
+    if (boundary_slot[i] < 0) {
+      system.unknown_of[i] = static_cast<pcl::index_t> (system.interior.size ());
+      system.interior.push_back (static_cast<pcl::index_t> (i));
+    }
+  const std::size_t unknowns = system.interior.size ();
+
+  // Rows: u_i - sum lambda_ij u_j (interior j) = sum lambda_ij u_j (boundary j), the
+  // weights restricted to the patch and renormalised to sum to one.
+  std::vector<Eigen::Triplet<double>> entries;
+  entries.reserve (unknowns * 8);
+  system.rhs = Eigen::MatrixX2d::Zero (static_cast<Eigen::Index> (unknowns), 2);
+  std::vector<std::vector<pcl::index_t>> depends_on_me (m); // reverse edges, for reachability
+  for (std::size_t row = 0; row < unknowns; ++row) {
+    const pcl::index_t local = system.interior[row];
+    const pcl::index_t v = patch_points[local];
+    double inside = 0.0;
+    for (auto k = weights.neighbours.offsets[v]; k < weights.neighbours.offsets[v + 1]; ++k)
+      if (local_of.count (weights.neighbours.adjacency[k]))
+        inside += weights.values[k];
+    if (!(inside > 0.0)) {
+      system.message = "an interior point of the patch has no neighbour inside the patch "
+                       "(increase the number of neighbours k or the radius)";
+      return system;
+    }
+    entries.emplace_back (row, row, 1.0);
+    for (auto k = weights.neighbours.offsets[v]; k < weights.neighbours.offsets[v + 1]; ++k) {
+      const auto it = local_of.find (weights.neighbours.adjacency[k]);
+      if (it == local_of.end ())
+        continue;
+      const double lambda = weights.values[k] / inside;
+      const pcl::index_t j = it->second;
+      if (lambda == 0.0 || j == local)
+        continue;
+      depends_on_me[j].push_back (local);
+      if (boundary_slot[j] >= 0)
+        system.rhs.row (row) += lambda * boundary_uv[boundary_slot[j]].transpose ();
+      else
+        entries.emplace_back (row, system.unknown_of[j], -lambda);
+    }
+  }
+
+  // Non-singular iff every interior point reaches the boundary along directed
+  // weight edges: search backwards from the boundary.
+  std::vector<char> reaches (m, 0);
+  std::vector<pcl::index_t> stack;
+  for (std::size_t i = 0; i < m; ++i)
+    if (boundary_slot[i] >= 0) {
+      reaches[i] = 1;
+      stack.push_back (static_cast<pcl::index_t> (i));
+    }
+  while (!stack.empty ()) {
+    const pcl::index_t j = stack.back ();
+    stack.pop_back ();
+    for (pcl::index_t i : depends_on_me[j])
+      if (!reaches[i]) {
+        reaches[i] = 1;
+        stack.push_back (i);
+      }
+  }
+  std::size_t cut_off = 0;
+  for (char r : reaches)
+    cut_off += !r;
+  if (cut_off > 0) {
+    system.message = std::to_string (cut_off) +
+                     " interior point(s) of the patch have no path to its boundary (the "
+                     "patch is disconnected; increase k or the radius)";
+    return system;
+  }
+
+  system.matrix.resize (static_cast<Eigen::Index> (unknowns), static_cast<Eigen::Index> (unknowns));
+  system.matrix.setFromTriplets (entries.begin (), entries.end ());
+  system.success = true;
+  return system;
+}
+
+Parameterization
+solveMeshlessSystem (const MeshlessSystem& system,
+                     const std::vector<pcl::index_t>& patch_points,
+                     const std::vector<pcl::index_t>& boundary_loop,
+                     const Points2& boundary_uv,
+                     const SolveOptions& options)
+{
+  Parameterization result;
+  if (!system.success) {
+    result.message = "the system was not built: " + system.message;
+    return result;
+  }
+  const std::size_t m = patch_points.size ();
+  result.uv.assign (m, Eigen::Vector2d::Zero ());
+  std::unordered_map<pcl::index_t, pcl::index_t> local_of;
+  for (std::size_t i = 0; i < m; ++i)
+    local_of.emplace (patch_points[i], static_cast<pcl::index_t> (i));
+  for (std::size_t k = 0; k < boundary_loop.size (); ++k)
+    result.uv[local_of.at (boundary_loop[k])] = boundary_uv[k];
+
+  const Eigen::Index unknowns = system.matrix.rows ();
+  if (unknowns == 0) {
+    result.success = true;
+    return result;
+  }
+  Eigen::MatrixX2d solution;
+  if (options.solver == SparseSolver::SparseLU) {
+    Eigen::SparseMatrix<double> column_major = system.matrix;
+    Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::COLAMDOrdering<int>> lu;
+    lu.analyzePattern (column_major);
+    lu.factorize (column_major);
+    if (lu.info () != Eigen::Success) {
+      result.message = "the sparse LU factorization failed: " + lu.lastErrorMessage ();
+      return result;
+    }
+    solution = lu.solve (system.rhs);
+    if (lu.info () != Eigen::Success) {
+      result.message = "the sparse LU solve failed";
+      return result;
+    }
+  }
+  else {
+    Eigen::SparseMatrix<double> column_major = system.matrix;
+    Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::IncompleteLUT<double>> bicg;
+    bicg.setTolerance (options.tolerance);
+    bicg.setMaxIterations (options.max_iterations);
+    bicg.compute (column_major);
+    if (bicg.info () != Eigen::Success) {
+      result.message = "the incomplete LU preconditioner could not be computed";
+      return result;
+    }
+    solution.resize (unknowns, 2);
+    for (int c = 0; c < 2; ++c) {
+      solution.col (c) = bicg.solve (system.rhs.col (c));
+      result.iterations = std::max (result.iterations, static_cast<int> (bicg.iterations ()));
+      if (bicg.info () != Eigen::Success) {
+        result.message = "BiCGSTAB did not converge within " +
+                         std::to_string (options.max_iterations) + " iterations";
+        return result;
+      }
+    }
+  }
+  if (!solution.allFinite ()) {
+    result.message = "the parameterization has non-finite parameter points (singular system)";
+    return result;
+  }
+  const double rhs_norm = std::max (system.rhs.norm (), 1e-300);
+  result.residual = (system.matrix * solution - system.rhs).norm () / rhs_norm;
+  if (!(result.residual <= std::max (options.tolerance, 1e-8))) {
+    result.message = "the parameterization's residual " + std::to_string (result.residual) +
+                     " is too large (ill-conditioned system)";
+    return result;
+  }
+  for (Eigen::Index row = 0; row < unknowns; ++row)
+    result.uv[system.interior[row]] = solution.row (row).transpose ();
+  result.success = true;
+  return result;
+}
+
+} // namespace meshless
+} // namespace pcl
