@@ -195,10 +195,7 @@ main (int argc, char** argv)
   const double t_order = secondsSince (start);
 
   start = Clock::now ();
-  const bool ring_weights =
-      weights.type == WeightType::MeanValue || weights.type == WeightType::ShapePreserving;
-  const Weights w = computeWeights (points, ring_weights ? ordered.rings : graph,
-                                    ordered.normals, weights);
+  const Weights w = computeWeights (points, ordered.rings, graph, ordered.normals, weights);
   if (!w.success)
     return fail (w.message);
   const double t_weights = secondsSince (start);

@@ -52,6 +52,24 @@ symmetricGraph (const CsrGraph& neighbourhoods)
   return graph;
 }
 
+CsrGraph
+transposeGraph (const CsrGraph& graph)
+{
+  const std::size_t n = graph.size ();
+  CsrGraph transposed;
+  transposed.offsets.assign (n + 1, 0);
+  for (pcl::index_t w : graph.adjacency)
+    ++transposed.offsets[w + 1];
+  for (std::size_t v = 0; v < n; ++v)
+    transposed.offsets[v + 1] += transposed.offsets[v];
+  transposed.adjacency.resize (graph.adjacency.size ());
+  std::vector<pcl::index_t> filled (transposed.offsets.begin (), transposed.offsets.end () - (n ? 1 : 0));
+  for (std::size_t v = 0; v < n; ++v)
+    for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
+      transposed.adjacency[filled[*w]++] = static_cast<pcl::index_t> (v);
+  return transposed;
+}
+
 std::size_t
 connectedComponents (const CsrGraph& graph, std::vector<pcl::index_t>& labels)
 {

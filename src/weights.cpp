@@ -151,7 +151,8 @@ reciprocalDistanceWeights (const Points3& points,
 
 Weights
 computeWeights (const Points3& points,
-                const CsrGraph& neighbours,
+                const CsrGraph& rings,
+                const CsrGraph& graph,
                 const std::vector<Eigen::Vector3f>& normals,
                 const WeightOptions& options)
 {
@@ -159,15 +160,17 @@ computeWeights (const Points3& points,
   const std::size_t n = points.size ();
   const bool ordered =
       options.type == WeightType::MeanValue || options.type == WeightType::ShapePreserving;
-  if (neighbours.size () != n || (ordered && normals.size () != n)) {
-    result.message = "weights need one neighbourhood (and for ordered weights one "
-                     "normal) per point";
+  if (graph.size () != n || (ordered && (rings.size () != n || normals.size () != n))) {
+    result.message = "weights need one neighbourhood (and for ordered weights one ring and "
+                     "one normal) per point";
     return result;
   }
-  result.neighbours = neighbours;
-  result.values.assign (neighbours.numEntries (), 0.0);
-  std::size_t fallbacks = 0;
 
+  // Each point's row comes from its ring or, where the ring fails, from the graph:
+  // decide and compute per point first, then lay the rows out.
+  std::vector<char> uses_ring (n, 0);
+  std::vector<std::vector<double>> row_values (n);
+  std::size_t fallbacks = 0;
 #pragma omp parallel reduction(+ : fallbacks)
   {
     Points2 local;
@@ -175,29 +178,34 @@ computeWeights (const Points3& points,
 #pragma omp for schedule(dynamic, 256)
     for (std::ptrdiff_t sv = 0; sv < static_cast<std::ptrdiff_t> (n); ++sv) {
       const auto v = static_cast<pcl::index_t> (sv);
-      const pcl::index_t* begin = neighbours.begin (v);
-      const pcl::index_t* end = neighbours.end (v);
-      const std::size_t d = static_cast<std::size_t> (end - begin);
-      if (d == 0)
-        continue;
       bool done = false;
-      if (options.type == WeightType::Uniform) {
-        lambda.assign (d, 1.0 / static_cast<double> (d));
-        done = true;
-      }
-      else if (ordered) {
-        localCoordinates (points, v, begin, end, normals[v].cast<double> (), options.plane,
-                          local);
+      if (ordered) {
+        localCoordinates (points, v, rings.begin (v), rings.end (v), normals[v].cast<double> (),
+                          options.plane, local);
         done = options.type == WeightType::MeanValue ? meanValueWeights (local, lambda)
                                                      : shapePreservingWeights (local, lambda);
         if (!done)
           ++fallbacks;
+        uses_ring[v] = done;
       }
-      if (!done)
-        reciprocalDistanceWeights (points, v, begin, end, lambda);
-      std::copy (lambda.begin (), lambda.end (),
-                 result.values.begin () + neighbours.offsets[v]);
+      if (!done) {
+        const std::size_t d = static_cast<std::size_t> (graph.degree (v));
+        if (options.type == WeightType::Uniform)
+          lambda.assign (d, d > 0 ? 1.0 / static_cast<double> (d) : 0.0);
+        else
+          reciprocalDistanceWeights (points, v, graph.begin (v), graph.end (v), lambda);
+      }
+      row_values[v] = lambda;
     }
+  }
+
+  CsrGraph& layout = result.neighbours;
+  layout.offsets.assign (n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const CsrGraph& source = uses_ring[v] ? rings : graph;
+    layout.adjacency.insert (layout.adjacency.end (), source.begin (v), source.end (v));
+    result.values.insert (result.values.end (), row_values[v].begin (), row_values[v].end ());
+    layout.offsets[v + 1] = static_cast<pcl::index_t> (layout.adjacency.size ());
   }
   result.num_fallbacks = fallbacks;
   result.success = true;

@@ -52,11 +52,9 @@ planarPatch (int rim, int grid, std::uint32_t seed)
 Weights
 patchWeights (const Points3& points, WeightType type)
 {
-  const OrderedNeighbourhoods ordered =
-      orderNeighbourhoods (points, meshless_test::bruteForceKnnGraph (points, 12));
-  const bool ring = type == WeightType::MeanValue || type == WeightType::ShapePreserving;
-  return computeWeights (points, ring ? ordered.rings : meshless_test::bruteForceKnnGraph (points, 12),
-                         ordered.normals, {type});
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
+  return computeWeights (points, ordered.rings, graph, ordered.normals, {type});
 }
 
 } // namespace

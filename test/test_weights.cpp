@@ -121,9 +121,7 @@ TEST (Weights, EveryTypeGivesConvexCombinationsOnASphere)
   ASSERT_TRUE (ordered.success);
   for (WeightType type : {WeightType::Uniform, WeightType::ReciprocalDistance,
                           WeightType::ShapePreserving, WeightType::MeanValue}) {
-    const bool needs_ring = type == WeightType::ShapePreserving || type == WeightType::MeanValue;
-    const Weights weights =
-        computeWeights (points, needs_ring ? ordered.rings : graph, ordered.normals, {type});
+    const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals, {type});
     ASSERT_TRUE (weights.success) << weights.message;
     EXPECT_EQ (weights.num_fallbacks, 0u) << "a closed, smooth surface is surrounded everywhere";
     for (std::size_t v = 0; v < points.size (); ++v) {
@@ -160,9 +158,10 @@ TEST (Weights, LinearPrecisionOnATiltedPlanarCloudThroughTheWholeStage)
         Eigen::AngleAxisd (0.6, Eigen::Vector3d (1, -1, 0.3).normalized ()).toRotationMatrix ();
     for (auto& p : points)
       p = scale * (tilt * p + Eigen::Vector3d (10, 20, -5));
-    const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, meshless_test::bruteForceKnnGraph (points, 12));
+    const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+    const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
     for (WeightType type : {WeightType::MeanValue, WeightType::ShapePreserving}) {
-      const Weights weights = computeWeights (points, ordered.rings, ordered.normals, {type});
+      const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals, {type});
       ASSERT_TRUE (weights.success);
       std::size_t checked = 0;
       for (std::size_t v = 0; v < points.size (); ++v) {

@@ -63,6 +63,11 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
 CsrGraph
 symmetricGraph (const CsrGraph& neighbourhoods);
 
+/** \brief The transposed (reversed) graph: w lists v for every entry w in row v.
+  * Rows come out sorted ascending. */
+CsrGraph
+transposeGraph (const CsrGraph& graph);
+
 /** \brief Number of connected components of a symmetric graph, and each vertex's
   * component label (0-based, in order of the smallest vertex of each component). */
 std::size_t

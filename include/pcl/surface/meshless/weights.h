@@ -39,8 +39,9 @@ struct Weights : StageStatus
   CsrGraph neighbours;
   std::vector<double> values;
   /** \brief Points whose ring does not surround them (an angle of at least pi
-    * between consecutive neighbours) so that shape-preserving or mean value weights
-    * do not exist; they got reciprocal-distance weights instead. */
+    * between consecutive neighbours, or fewer than two ring members) so that
+    * shape-preserving or mean value weights do not exist; they got
+    * reciprocal-distance weights over their unordered neighbourhood instead. */
   std::size_t num_fallbacks = 0;
 };
 
@@ -72,15 +73,18 @@ reciprocalDistanceWeights (const Points3& points,
 
 /** \brief Weights for every point.
   * \param[in] points n points
-  * \param[in] neighbours for Uniform and ReciprocalDistance any neighbourhoods (the
-  *            ordering is not used); for ShapePreserving and MeanValue the rings of
-  *            orderNeighbourhoods
-  * \param[in] normals for ShapePreserving and MeanValue: the plane normal each ring
-  *            was ordered around (OrderedNeighbourhoods::normals); else ignored
+  * \param[in] rings the Delaunay rings of orderNeighbourhoods (ShapePreserving and
+  *            MeanValue use them)
+  * \param[in] graph unordered neighbourhoods, usually G (Uniform and
+  *            ReciprocalDistance use them, and every point whose ring does not
+  *            surround it falls back to reciprocal-distance weights over them)
+  * \param[in] normals the plane normal each ring was ordered around
+  *            (OrderedNeighbourhoods::normals)
   */
 Weights
 computeWeights (const Points3& points,
-                const CsrGraph& neighbours,
+                const CsrGraph& rings,
+                const CsrGraph& graph,
                 const std::vector<Eigen::Vector3f>& normals,
                 const WeightOptions& options = {});
 

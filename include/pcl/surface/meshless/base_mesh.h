@@ -1,0 +1,63 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/types.h>
+
+#include <Eigen/Geometry>
+
+namespace pcl {
+namespace meshless {
+
+/** \brief The coarse triangulation D of §3 whose vertices are cloud points and whose
+  * topology the result takes (a sphere here). */
+struct BaseMesh
+{
+  /** \brief Cloud point of each vertex of D (distinct). */
+  std::vector<pcl::index_t> vertices;
+  /** \brief Faces of D as positions into `vertices`, counter-clockwise seen from
+    * outside. */
+  std::vector<std::array<int, 3>> faces;
+};
+
+/** \brief Regular polyhedra whose directions pick the vertices of D. */
+enum class BasePolyhedron
+{
+  Tetrahedron, ///< 4 faces: the paper's choice (§4)
+  Octahedron,  ///< 8 faces
+  Icosahedron  ///< 20 faces: shorter paths, smaller and less distorted patches
+};
+
+/** \brief The base mesh of §4 generalised: for each vertex direction w_i of a
+  * regular polyhedron (rotated by `rotation`), the cloud point v maximising
+  * <v - s, w_i>, s the centroid; faces as in the polyhedron.
+  * Faces are then oriented by the signed volume of the chosen points, so that D
+  * turns the same way as the cloud's outward orientation.
+  * \param[in] eligible optional per-point mask: only points marked non-zero may
+  *            become vertices (e.g. points whose ring surrounds them: a sharp tip
+  *            makes a poor corner); empty means all points
+  * \return an empty mesh if two directions pick the same point (the cloud is too
+  *         small or too flat for this polyhedron)
+  */
+BaseMesh
+polyhedronBaseMesh (const Points3& points,
+                    BasePolyhedron polyhedron,
+                    const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity (),
+                    const std::vector<char>& eligible = {});
+
+/** \brief Check that D is a valid sphere-topology base mesh over n points: at least
+  * 4 faces, distinct in-range vertices, every edge in exactly two faces used in
+  * opposite directions, every vertex's faces forming one fan, Euler
+  * characteristic 2. \return an empty string if valid, else the reason. */
+std::string
+validateBaseMesh (const BaseMesh& mesh, std::size_t n);
+
+/** \brief The edges of D, each once as (smaller position, larger position) into
+  * `vertices`, sorted. */
+std::vector<std::array<int, 2>>
+baseMeshEdges (const BaseMesh& mesh);
+
+} // namespace meshless
+} // namespace pcl

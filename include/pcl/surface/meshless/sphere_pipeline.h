@@ -1,0 +1,87 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/base_mesh.h>
+#include <pcl/surface/meshless/ordered_neighbourhoods.h>
+#include <pcl/surface/meshless/parameterization.h>
+#include <pcl/surface/meshless/types.h>
+#include <pcl/surface/meshless/weights.h>
+
+#include <functional>
+
+namespace pcl {
+namespace meshless {
+
+/** \brief What a long run reports as it goes. */
+struct ProgressReport
+{
+  /** \brief Name of the stage that just finished ("neighbourhoods", "rings", ...). */
+  std::string stage;
+  /** \brief Share of the whole work done so far, 0 .. 1 (by typical stage cost). */
+  double fraction = 0.0;
+  /** \brief Wall time the stage took (seconds). */
+  double seconds = 0.0;
+  /** \brief A short line of what the stage found (sizes, counts). */
+  std::string detail;
+};
+
+/** \brief Called after each stage; return false to cancel the reconstruction. */
+using ProgressCallback = std::function<bool (const ProgressReport&)>;
+
+struct SpherePipelineOptions
+{
+  /** \brief Default: WeightType::MeanValue. */
+  WeightType weights = WeightType::MeanValue;
+  /** \brief Base mesh D when no user base mesh is given. Default: the paper's
+    * tetrahedron. */
+  BasePolyhedron polyhedron = BasePolyhedron::Tetrahedron;
+  /** \brief A user base mesh (vertices are indices into the points); used instead
+    * of `polyhedron` when it has faces. */
+  BaseMesh user_base_mesh;
+  /** \brief How many rotations of the polyhedron to try when paths cross or a
+    * region cannot be formed. Default 12. */
+  int max_base_attempts = 12;
+  SolveOptions solve;
+  ProgressCallback progress;
+};
+
+/** \brief Statistics of a run (for logs, the CLI and benchmarks). */
+struct SpherePipelineStats
+{
+  std::size_t base_attempts = 0;
+  std::size_t base_faces = 0;
+  std::size_t path_points = 0;
+  std::size_t largest_patch = 0;
+  std::size_t side_conflicts = 0;
+  std::size_t reassigned = 0;
+  std::size_t repair_flips = 0;
+  std::size_t normals_flipped = 0;
+  std::size_t weight_fallbacks = 0;
+  double smallest_parameter_edge = 0.0;
+};
+
+struct SphereTriangulation : StageStatus
+{
+  /** \brief 2n - 4 triangles, outward oriented, over the point indices. */
+  Triangles triangles;
+  SpherePipelineStats stats;
+};
+
+/** \brief §3-§4 after the neighbourhood search: the symmetric graph, rings and
+  * orientation, weights, base mesh, cut paths, patch split, one meshless
+  * parameterization and Delaunay triangulation per patch, merge.
+  * \param[in] points n distinct points
+  * \param[in] neighbourhoods directed neighbourhoods N(v) (from searchNeighbourhoods)
+  * \return the closed triangulation, or the reason it could not be built. The
+  *         caller checks the result's invariants (checkMesh).
+  */
+SphereTriangulation
+triangulateSphere (const Points3& points,
+                   const CsrGraph& neighbourhoods,
+                   const SpherePipelineOptions& options = {});
+
+} // namespace meshless
+} // namespace pcl

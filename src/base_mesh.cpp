@@ -1,0 +1,188 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/base_mesh.h>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <set>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+struct Polyhedron
+{
+  std::vector<Eigen::Vector3d> directions;
+  std::vector<std::array<int, 3>> faces;
+};
+
+/** Orient every face counter-clockwise seen from outside (the directions are
+  * centred at the origin, so outward means positive volume with the origin). */
+void
+orientOutward (Polyhedron& p)
+{
+  for (auto& f : p.faces) {
+    const Eigen::Vector3d& a = p.directions[f[0]];
+    const Eigen::Vector3d& b = p.directions[f[1]];
+    const Eigen::Vector3d& c = p.directions[f[2]];
+    if ((b - a).cross (c - a).dot (a + b + c) < 0.0)
+      std::swap (f[1], f[2]);
+  }
+}
+
+Polyhedron
+regularPolyhedron (BasePolyhedron kind)
+{
+  Polyhedron p;
+  switch (kind) {
+  case BasePolyhedron::Tetrahedron:
+    p.directions = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
+    p.faces = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
+    break;
+  case BasePolyhedron::Octahedron:
+    p.directions = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+    for (int x : {0, 1})
+      for (int y : {2, 3})
+        for (int z : {4, 5})
+          p.faces.push_back ({x, y, z});
+    break;
+  case BasePolyhedron::Icosahedron: {
+    const double g = (1.0 + std::sqrt (5.0)) / 2.0;
+    p.directions = {{-1, g, 0}, {1, g, 0},  {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+                    {0, -1, -g}, {0, 1, -g}, {g, 0, -1},  {g, 0, 1},  {-g, 0, -1}, {-g, 0, 1}};
+    // Faces: the triples of mutually nearest directions (edge length 2).
+    const int m = 12;
+    for (int a = 0; a < m; ++a)
+      for (int b = a + 1; b < m; ++b)
+        for (int c = b + 1; c < m; ++c)
+          if (std::abs ((p.directions[a] - p.directions[b]).norm () - 2.0) < 1e-9 &&
+              std::abs ((p.directions[b] - p.directions[c]).norm () - 2.0) < 1e-9 &&
+              std::abs ((p.directions[a] - p.directions[c]).norm () - 2.0) < 1e-9)
+            p.faces.push_back ({a, b, c});
+    break;
+  }
+  }
+  for (auto& d : p.directions)
+    d.normalize ();
+  orientOutward (p);
+  return p;
+}
+
+} // namespace
+
+BaseMesh
+polyhedronBaseMesh (const Points3& points,
+                    BasePolyhedron polyhedron,
+                    const Eigen::Matrix3d& rotation,
+                    const std::vector<char>& eligible)
+{
+  BaseMesh mesh;
+  if (points.empty ())
+    return mesh;
+  const Polyhedron p = regularPolyhedron (polyhedron);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
+  for (const auto& v : points)
+    centroid += v;
+  centroid /= static_cast<double> (points.size ());
+  for (const auto& direction : p.directions) {
+    const Eigen::Vector3d w = rotation * direction;
+    pcl::index_t best = 0;
+    double best_value = -std::numeric_limits<double>::infinity ();
+    for (std::size_t v = 0; v < points.size (); ++v) {
+      if (!eligible.empty () && !eligible[v])
+        continue;
+      const double value = (points[v] - centroid).dot (w);
+      if (value > best_value) {
+        best_value = value;
+        best = static_cast<pcl::index_t> (v);
+      }
+    }
+    if (best_value == -std::numeric_limits<double>::infinity () ||
+        std::find (mesh.vertices.begin (), mesh.vertices.end (), best) != mesh.vertices.end ())
+      return {};
+    mesh.vertices.push_back (best);
+  }
+  mesh.faces = p.faces;
+  // Signed volume of D's faces as placed on the cloud (relative to the centroid):
+  // negative means the chosen points turn the other way than the directions.
+  double volume = 0.0;
+  for (const auto& f : mesh.faces)
+    volume += (points[mesh.vertices[f[0]]] - centroid)
+                  .dot ((points[mesh.vertices[f[1]]] - centroid)
+                            .cross (points[mesh.vertices[f[2]]] - centroid));
+  if (volume < 0.0)
+    for (auto& f : mesh.faces)
+      std::swap (f[1], f[2]);
+  return mesh;
+}
+
+std::vector<std::array<int, 2>>
+baseMeshEdges (const BaseMesh& mesh)
+{
+  std::set<std::array<int, 2>> edges;
+  for (const auto& f : mesh.faces)
+    for (int k = 0; k < 3; ++k)
+      edges.insert ({std::min (f[k], f[(k + 1) % 3]), std::max (f[k], f[(k + 1) % 3])});
+  return {edges.begin (), edges.end ()};
+}
+
+std::string
+validateBaseMesh (const BaseMesh& mesh, std::size_t n)
+{
+  const int nv = static_cast<int> (mesh.vertices.size ());
+  if (mesh.faces.size () < 4)
+    return "the base mesh needs at least four faces";
+  std::set<pcl::index_t> distinct (mesh.vertices.begin (), mesh.vertices.end ());
+  if (static_cast<int> (distinct.size ()) != nv)
+    return "the base mesh uses a cloud point twice";
+  for (auto v : mesh.vertices)
+    if (v < 0 || static_cast<std::size_t> (v) >= n)
+      return "a base mesh vertex is not a point of the cloud";
+  std::map<std::array<int, 2>, int> directed;
+  std::vector<std::vector<std::array<int, 2>>> fan (nv); // per vertex: (next, prev) pairs
+  for (const auto& f : mesh.faces) {
+    for (int k = 0; k < 3; ++k) {
+      if (f[k] < 0 || f[k] >= nv)
+        return "a base mesh face refers to a missing vertex";
+      if (f[k] == f[(k + 1) % 3])
+        return "a base mesh face repeats a vertex";
+      if (++directed[{f[k], f[(k + 1) % 3]}] > 1)
+        return "a base mesh edge is used twice in the same direction (faces not "
+               "consistently oriented, or more than two faces on an edge)";
+      fan[f[k]].push_back ({f[(k + 1) % 3], f[(k + 2) % 3]});
+    }
+  }
+  for (const auto& [edge, count] : directed)
+    if (!directed.count ({edge[1], edge[0]}))
+      return "the base mesh has a boundary edge (it must be closed)";
+  for (int v = 0; v < nv; ++v) {
+    if (fan[v].empty ())
+      return "a base mesh vertex is in no face";
+    // The faces around v form one cycle: follow next -> prev links.
+    std::size_t steps = 0;
+    int start = fan[v][0][0], current = start;
+    do {
+      auto it = std::find_if (fan[v].begin (), fan[v].end (),
+                              [&] (const std::array<int, 2>& e) { return e[1] == current; });
+      if (it == fan[v].end ())
+        return "the faces around a base mesh vertex do not form one fan";
+      current = (*it)[0];
+      ++steps;
+    } while (current != start && steps <= fan[v].size ());
+    if (steps != fan[v].size ())
+      return "the faces around a base mesh vertex do not form one fan";
+  }
+  const long euler = static_cast<long> (nv) - static_cast<long> (directed.size () / 2) +
+                     static_cast<long> (mesh.faces.size ());
+  if (euler != 2)
+    return "the base mesh is not a sphere (Euler characteristic " + std::to_string (euler) + ")";
+  return "";
+}
+
+} // namespace meshless
+} // namespace pcl

@@ -1,0 +1,131 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/normal_orientation.h>
+
+#include <algorithm>
+#include <cmath>
+#include <queue>
+
+namespace pcl {
+namespace meshless {
+
+NormalOrientation
+orientNormals (const Points3& points,
+               const CsrGraph& graph,
+               const CsrGraph& mutual,
+               OrderedNeighbourhoods& ordered)
+{
+  NormalOrientation result;
+  const std::size_t n = points.size ();
+  if (graph.size () != n || mutual.size () != n || ordered.normals.size () != n ||
+      ordered.rings.size () != n) {
+    result.message = "normals, rings and graphs must have one entry per point";
+    return result;
+  }
+  std::vector<pcl::index_t> component;
+  const std::size_t components = connectedComponents (graph, component);
+  result.num_components = components;
+
+  // Seed of each component: the point whose normal is the longest lever along its
+  // offset from the component's centroid, |n . (v - c)|. Far out and facing
+  // outwards or inwards with certainty; the farthest point alone may be a sharp
+  // tip whose least-squares plane says nothing about the outside.
+  std::vector<Eigen::Vector3d> centroid (components, Eigen::Vector3d::Zero ());
+  std::vector<std::size_t> size (components, 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    centroid[component[v]] += points[v];
+    ++size[component[v]];
+  }
+  for (std::size_t c = 0; c < components; ++c)
+    centroid[c] /= static_cast<double> (size[c]);
+  std::vector<pcl::index_t> seed (components, -1);
+  std::vector<double> farthest (components, -1.0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const double d = std::abs (ordered.normals[v].cast<double> ().dot (points[v] - centroid[component[v]]));
+    if (d > farthest[component[v]] && !ordered.normals[v].isZero ()) {
+      farthest[component[v]] = d;
+      seed[component[v]] = static_cast<pcl::index_t> (v);
+    }
+  }
+
+  std::vector<char> flip (n, 0), done (n, 0);
+  auto signedNormal = [&] (pcl::index_t v) -> Eigen::Vector3d {
+    const Eigen::Vector3d normal = ordered.normals[v].cast<double> ();
+    return flip[v] ? Eigen::Vector3d (-normal) : normal;
+  };
+  // How much the orientation of v says about w's: parallel normals, and an edge
+  // in both tangent planes.
+  auto confidence = [&] (pcl::index_t v, pcl::index_t w) {
+    const Eigen::Vector3d nv = ordered.normals[v].cast<double> ();
+    const Eigen::Vector3d nw = ordered.normals[w].cast<double> ();
+    const Eigen::Vector3d e = (points[w] - points[v]).normalized ();
+    return std::abs (nv.dot (nw)) - std::abs (nv.dot (e)) - std::abs (nw.dot (e));
+  };
+  using Entry = std::pair<double, std::pair<pcl::index_t, pcl::index_t>>; // (weight, (from, to))
+  std::priority_queue<Entry> heap;
+  // Prim's algorithm from every oriented point over `edges`, best edges first.
+  auto grow = [&] (const CsrGraph& edges) {
+    for (std::size_t v = 0; v < n; ++v)
+      if (done[v])
+        for (const pcl::index_t* w = edges.begin (v); w != edges.end (v); ++w)
+          if (!done[*w])
+            heap.push ({confidence (static_cast<pcl::index_t> (v), *w),
+                        {static_cast<pcl::index_t> (v), *w}});
+    while (!heap.empty ()) {
+      const auto [from, to] = heap.top ().second;
+      heap.pop ();
+      if (done[to])
+        continue;
+      done[to] = 1;
+      flip[to] = signedNormal (from).dot (ordered.normals[to].cast<double> ()) < 0.0;
+      for (const pcl::index_t* w = edges.begin (to); w != edges.end (to); ++w)
+        if (!done[*w])
+          heap.push ({confidence (to, *w), {to, *w}});
+    }
+  };
+  for (std::size_t c = 0; c < components; ++c) {
+    const pcl::index_t s = seed[c];
+    if (s < 0)
+      continue;
+    flip[s] = ordered.normals[s].cast<double> ().dot (points[s] - centroid[c]) < 0.0;
+    done[s] = 1;
+  }
+  grow (mutual);
+  grow (graph);
+
+  for (std::size_t v = 0; v < n; ++v)
+    if (flip[v]) {
+      ordered.normals[v] = -ordered.normals[v];
+      std::reverse (ordered.rings.adjacency.begin () + ordered.rings.offsets[v],
+                    ordered.rings.adjacency.begin () + ordered.rings.offsets[v + 1]);
+      ++result.num_flipped;
+    }
+  result.success = true;
+  return result;
+}
+
+CsrGraph
+mutualRingGraph (const CsrGraph& rings)
+{
+  const std::size_t n = rings.size ();
+  CsrGraph graph;
+  graph.offsets.assign (n + 1, 0);
+  std::vector<pcl::index_t> row;
+  for (std::size_t v = 0; v < n; ++v) {
+    row.clear ();
+    for (const pcl::index_t* w = rings.begin (v); w != rings.end (v); ++w)
+      if (std::find (rings.begin (*w), rings.end (*w), static_cast<pcl::index_t> (v)) !=
+          rings.end (*w))
+        row.push_back (*w);
+    std::sort (row.begin (), row.end ());
+    row.erase (std::unique (row.begin (), row.end ()), row.end ());
+    graph.adjacency.insert (graph.adjacency.end (), row.begin (), row.end ());
+    graph.offsets[v + 1] = static_cast<pcl::index_t> (graph.adjacency.size ());
+  }
+  return graph;
+}
+
+} // namespace meshless
+} // namespace pcl

@@ -1,0 +1,209 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/cut_paths.h>
+#include <pcl/surface/meshless/merge.h>
+#include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/meshless/normal_orientation.h>
+#include <pcl/surface/meshless/patch_split.h>
+#include <pcl/surface/meshless/patch_triangulation.h>
+#include <pcl/surface/meshless/sphere_pipeline.h>
+
+#include <algorithm>
+#include <chrono>
+#include <random>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+/** Reports stages to the user's callback; remembers a cancellation. */
+class StageClock
+{
+public:
+  explicit StageClock (const ProgressCallback& callback) : callback_ (callback) {}
+
+  /** \return false if the user cancelled. */
+  bool
+  done (const std::string& stage, double fraction, const std::string& detail = "")
+  {
+    const auto now = Clock::now ();
+    const double seconds = std::chrono::duration<double> (now - start_).count ();
+    start_ = now;
+    if (callback_ && !callback_ ({stage, fraction, seconds, detail}))
+      cancelled_ = true;
+    return !cancelled_;
+  }
+
+private:
+  const ProgressCallback& callback_;
+  Clock::time_point start_ = Clock::now ();
+  bool cancelled_ = false;
+};
+
+/** Deterministic rotation number `attempt` (identity first). */
+Eigen::Matrix3d
+attemptRotation (int attempt)
+{
+  if (attempt == 0)
+    return Eigen::Matrix3d::Identity ();
+  std::mt19937 random (static_cast<std::uint32_t> (attempt));
+  std::normal_distribution<double> gauss;
+  const Eigen::Quaterniond q (gauss (random), gauss (random), gauss (random), gauss (random));
+  return q.normalized ().toRotationMatrix ();
+}
+
+} // namespace
+
+SphereTriangulation
+triangulateSphere (const Points3& points,
+                   const CsrGraph& neighbourhoods,
+                   const SpherePipelineOptions& options)
+{
+  SphereTriangulation result;
+  SpherePipelineStats& stats = result.stats;
+  const std::size_t n = points.size ();
+  StageClock clock (options.progress);
+  auto cancelled = [&] () {
+    result.message = "cancelled by the progress callback";
+    return result;
+  };
+  if (n < 4) {
+    result.message = "a closed triangulation needs at least four points";
+    return result;
+  }
+
+  const CsrGraph graph = symmetricGraph (neighbourhoods);
+  std::vector<pcl::index_t> component;
+  if (connectedComponents (graph, component) != 1) {
+    result.message = "the neighbourhood graph is disconnected (several objects, outliers, "
+                     "or too few neighbours: increase k or the radius)";
+    return result;
+  }
+  if (!clock.done ("graph", 0.05, std::to_string (graph.numEntries () / 2) + " edges"))
+    return cancelled ();
+
+  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
+  if (!ordered.success) {
+    result.message = ordered.message;
+    return result;
+  }
+  const CsrGraph mutual = mutualRingGraph (ordered.rings);
+  const NormalOrientation orientation = orientNormals (points, graph, mutual, ordered);
+  stats.normals_flipped = orientation.num_flipped;
+  if (!clock.done ("rings", 0.15, std::to_string (orientation.num_flipped) + " normals flipped"))
+    return cancelled ();
+
+  const Weights weights =
+      computeWeights (points, ordered.rings, graph, ordered.normals, {options.weights});
+  if (!weights.success) {
+    result.message = weights.message;
+    return result;
+  }
+  stats.weight_fallbacks = weights.num_fallbacks;
+  if (!clock.done ("weights", 0.2, std::to_string (weights.num_fallbacks) + " fallbacks"))
+    return cancelled ();
+
+  // Corners of D only where the ring surrounds the point and the mutual graph
+  // offers several ways out: a sharp tip (all neighbours on one side) would leave
+  // no room for three or more paths in the right cyclic order.
+  std::vector<char> corner_eligible (n, 0);
+  std::size_t eligible_count = 0;
+  for (std::size_t v = 0; v < n; ++v) {
+    corner_eligible[v] = ordered.largest_gap[v] < 0.9 * 3.14159265358979 && mutual.degree (v) >= 4;
+    eligible_count += corner_eligible[v];
+  }
+  if (eligible_count < 4)
+    corner_eligible.clear (); // a tiny or degenerate cloud: let any point be a corner
+
+  const bool user_base = !options.user_base_mesh.faces.empty ();
+  if (user_base) {
+    const std::string problem = validateBaseMesh (options.user_base_mesh, n);
+    if (!problem.empty ()) {
+      result.message = "invalid base mesh: " + problem;
+      return result;
+    }
+  }
+  const int attempts = user_base ? 1 : std::max (1, options.max_base_attempts);
+  std::string last_problem;
+  for (int attempt = 0; attempt < attempts; ++attempt) {
+    stats.base_attempts = static_cast<std::size_t> (attempt + 1);
+    const BaseMesh base = user_base ? options.user_base_mesh
+                                    : polyhedronBaseMesh (points, options.polyhedron,
+                                                          attemptRotation (attempt),
+                                                          corner_eligible);
+    if (base.faces.empty ()) {
+      last_problem = "two base mesh directions picked the same point";
+      continue;
+    }
+    stats.base_faces = base.faces.size ();
+    const CutPaths paths = computeCutPaths (points, mutual, ordered.rings, base);
+    if (!paths.success) {
+      last_problem = paths.message;
+      continue;
+    }
+    const PatchSplit split = splitIntoPatches (points, mutual, graph, ordered.rings,
+                                              weights.neighbours, base, paths);
+    if (!split.success) {
+      last_problem = split.message;
+      continue;
+    }
+    stats.path_points = 0;
+    for (const auto& path : paths.paths)
+      stats.path_points += path.size () - 2;
+    stats.path_points += base.vertices.size ();
+    stats.side_conflicts = split.num_side_conflicts;
+    stats.reassigned = split.num_reassigned;
+    stats.largest_patch = 0;
+    for (const auto& patch : split.patches)
+      stats.largest_patch = std::max (stats.largest_patch, patch.points.size ());
+    if (!clock.done ("split", 0.35,
+                     std::to_string (base.faces.size ()) + " patches, largest " +
+                         std::to_string (stats.largest_patch) + " points"))
+      return cancelled ();
+
+    const std::size_t faces = split.patches.size ();
+    std::vector<PatchTriangulation> triangulated (faces);
+#pragma omp parallel for schedule(dynamic, 1)
+    for (std::ptrdiff_t f = 0; f < static_cast<std::ptrdiff_t> (faces); ++f)
+      triangulated[f] = triangulatePatch (points, weights, split.patches[f], options.solve);
+    std::vector<Triangles> patch_triangles;
+    bool all_patches = true;
+    stats.smallest_parameter_edge = 1.0;
+    for (auto& patch : triangulated) {
+      if (!patch.success) {
+        last_problem = patch.message;
+        all_patches = false;
+        break;
+      }
+      stats.smallest_parameter_edge = std::min (stats.smallest_parameter_edge, patch.smallest_edge);
+      patch_triangles.push_back (std::move (patch.triangles));
+    }
+    if (!all_patches)
+      continue;
+    if (!clock.done ("patches", 0.9))
+      return cancelled ();
+
+    MergedTriangulation merged = mergePatches (patch_triangles, n);
+    if (!merged.success) {
+      last_problem = merged.message;
+      continue;
+    }
+    stats.repair_flips = merged.num_repair_flips;
+    result.triangles = std::move (merged.triangles);
+    if (!clock.done ("merge", 1.0, std::to_string (merged.num_repair_flips) + " repair flips"))
+      return cancelled ();
+    result.success = true;
+    return result;
+  }
+  result.message = "no base mesh worked after " + std::to_string (attempts) +
+                   " attempt(s); the last problem: " + last_problem;
+  return result;
+}
+
+} // namespace meshless
+} // namespace pcl
