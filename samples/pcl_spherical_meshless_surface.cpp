@@ -1,17 +1,22 @@
 // pcl_spherical_meshless_surface INPUT OUTPUT [options]
 //
-// Reads a point cloud (.pcd, .ply, or .xyz with "x y z" per line), or generates one
-// with -generate, and runs the meshless pipeline on it, printing stage timings.
+// Reconstructs a closed, oriented genus-0 triangle mesh through every point of a
+// cloud with pcl::SphericalMeshlessReconstruction. INPUT is .pcd, .ply or .xyz
+// (x y z per line), or -generate SHAPE[:N] for one of the project's own clouds.
+// OUTPUT is .ply (binary), .vtk or .obj. Prints stage timings and the triangle
+// count; exits 0 on success, otherwise 1 with a one-line reason on stderr.
+#include <pcl/io/obj_io.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
+#include <pcl/io/vtk_io.h>
 #include <pcl/point_types.h>
-#include <pcl/search/kdtree.h>
-#include <pcl/surface/meshless/neighbourhood_graph.h>
-#include <pcl/surface/meshless/ordered_neighbourhoods.h>
 #include <pcl/surface/meshless/synthetic_clouds.h>
-#include <pcl/surface/meshless/weights.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
+
+#include <omp.h>
 
 #include <chrono>
+#include <cstring>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -29,12 +34,16 @@ usage (const char* program)
       "usage: %s INPUT OUTPUT [options]\n"
       "       %s -generate SHAPE[:N] OUTPUT [options]\n"
       "INPUT   .pcd, .ply or .xyz (x y z per line)\n"
+      "OUTPUT  .ply (binary), .vtk or .obj\n"
       "SHAPE   sphere, ellipsoid, bumpy_sphere, torus, disc, height_field (N points, "
       "default 20000)\n"
       "options:\n"
       "  -k N                 nearest neighbours (default 12)\n"
-      "  -radius R            ball neighbourhood instead of k nearest\n"
-      "  -weights W           uniform|distance|shape|meanvalue (default meanvalue)\n",
+      "  -radius R            ball neighbourhood of radius R instead of k nearest\n"
+      "  -weights W           uniform|distance|shape|meanvalue (default meanvalue)\n"
+      "  -topology T          sphere (closed, default) or disc (open surface)\n"
+      "  -base B              tetrahedron|octahedron|icosahedron (default tetrahedron)\n"
+      "  -threads N           worker threads (default: all cores)\n",
       program, program);
 }
 
@@ -45,6 +54,45 @@ endsWith (const std::string& s, const std::string& suffix)
          s.compare (s.size () - suffix.size (), suffix.size (), suffix) == 0;
 }
 
+/** x, y, z of every point of a PLY file whose coordinates are float or double
+  * (pcl::fromPCLPointCloud2 converts only matching types, and many meshes store
+  * doubles). Returns an empty string or the reason it failed. */
+std::string
+loadPlyPoints (const std::string& path, Cloud& cloud)
+{
+  pcl::PCLPointCloud2 blob;
+  if (pcl::io::loadPLYFile (path, blob) != 0)
+    return "cannot read PLY file " + path;
+  const pcl::PCLPointField* xyz[3] = {nullptr, nullptr, nullptr};
+  for (const auto& field : blob.fields)
+    for (int axis = 0; axis < 3; ++axis)
+      if (field.name == std::string (1, "xyz"[axis]))
+        xyz[axis] = &field;
+  for (const auto* field : xyz)
+    if (!field || (field->datatype != pcl::PCLPointField::FLOAT32 &&
+                   field->datatype != pcl::PCLPointField::FLOAT64))
+      return path + ": needs float or double x, y and z properties";
+  const std::size_t count = static_cast<std::size_t> (blob.width) * blob.height;
+  cloud.resize (count);
+  for (std::size_t i = 0; i < count; ++i) {
+    const std::uint8_t* point = blob.data.data () + i * blob.point_step;
+    for (int axis = 0; axis < 3; ++axis) {
+      const std::uint8_t* at = point + xyz[axis]->offset;
+      float value;
+      if (xyz[axis]->datatype == pcl::PCLPointField::FLOAT32)
+        std::memcpy (&value, at, sizeof (float));
+      else {
+        double wide;
+        std::memcpy (&wide, at, sizeof (double));
+        value = static_cast<float> (wide);
+      }
+      cloud[i].data[axis] = value;
+    }
+  }
+  cloud.is_dense = false;
+  return "";
+}
+
 /** Loads INPUT by extension; returns an empty string or the reason it failed. */
 std::string
 loadCloud (const std::string& path, Cloud& cloud)
@@ -52,7 +100,7 @@ loadCloud (const std::string& path, Cloud& cloud)
   if (endsWith (path, ".pcd"))
     return pcl::io::loadPCDFile (path, cloud) == 0 ? "" : "cannot read PCD file " + path;
   if (endsWith (path, ".ply"))
-    return pcl::io::loadPLYFile (path, cloud) == 0 ? "" : "cannot read PLY file " + path;
+    return loadPlyPoints (path, cloud);
   if (endsWith (path, ".xyz")) {
     std::ifstream in (path);
     if (!in)
@@ -69,9 +117,25 @@ loadCloud (const std::string& path, Cloud& cloud)
         return path + ":" + std::to_string (number) + ": expected three numbers";
       cloud.push_back (pcl::PointXYZ (x, y, z));
     }
+    cloud.is_dense = false; // may hold nan/inf written as text
     return "";
   }
   return "unknown input format (expected .pcd, .ply or .xyz): " + path;
+}
+
+std::string
+saveMesh (const std::string& path, const pcl::PolygonMesh& mesh)
+{
+  int status = -1;
+  if (endsWith (path, ".ply"))
+    status = pcl::io::savePLYFileBinary (path, mesh);
+  else if (endsWith (path, ".vtk"))
+    status = pcl::io::saveVTKFile (path, mesh);
+  else if (endsWith (path, ".obj"))
+    status = pcl::io::saveOBJFile (path, mesh);
+  else
+    return "unknown output format (expected .ply, .vtk or .obj): " + path;
+  return status == 0 ? "" : "cannot write " + path;
 }
 
 double
@@ -92,18 +156,14 @@ fail (const std::string& reason)
 int
 main (int argc, char** argv)
 {
-  using namespace pcl::meshless;
+  using Reconstruction = pcl::SphericalMeshlessReconstruction<pcl::PointXYZ>;
   std::vector<std::string> positional;
   std::string generate;
-  NeighbourhoodOptions neighbourhood;
-  WeightOptions weights;
+  Reconstruction reconstruction;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
-    auto value = [&] () -> std::string {
-      if (i + 1 >= argc)
-        return "";
-      return argv[++i];
-    };
+    const bool has_value = i + 1 < argc;
+    auto value = [&] () -> std::string { return has_value ? argv[++i] : ""; };
     try {
       if (arg == "-h" || arg == "--help") {
         usage (argv[0]);
@@ -112,23 +172,49 @@ main (int argc, char** argv)
       else if (arg == "-generate")
         generate = value ();
       else if (arg == "-k")
-        neighbourhood.k = std::stoi (value ());
+        reconstruction.setNumberOfNeighbours (std::stoi (value ()));
       else if (arg == "-radius")
-        neighbourhood.radius = std::stod (value ());
+        reconstruction.setSearchRadius (std::stod (value ()));
+      else if (arg == "-threads") {
+        const int threads = std::stoi (value ());
+        if (threads < 1)
+          return fail ("-threads needs a positive number");
+        omp_set_num_threads (threads);
+      }
       else if (arg == "-weights") {
         const std::string w = value ();
         if (w == "uniform")
-          weights.type = WeightType::Uniform;
+          reconstruction.setWeightType (Reconstruction::WeightType::Uniform);
         else if (w == "distance")
-          weights.type = WeightType::ReciprocalDistance;
+          reconstruction.setWeightType (Reconstruction::WeightType::ReciprocalDistance);
         else if (w == "shape")
-          weights.type = WeightType::ShapePreserving;
+          reconstruction.setWeightType (Reconstruction::WeightType::ShapePreserving);
         else if (w == "meanvalue")
-          weights.type = WeightType::MeanValue;
+          reconstruction.setWeightType (Reconstruction::WeightType::MeanValue);
         else
           return fail ("unknown weight type '" + w + "' (uniform|distance|shape|meanvalue)");
       }
-      else if (!arg.empty () && arg[0] == '-' && arg.size () > 1)
+      else if (arg == "-topology") {
+        const std::string t = value ();
+        if (t == "sphere")
+          reconstruction.setTopology (Reconstruction::Topology::Sphere);
+        else if (t == "disc")
+          reconstruction.setTopology (Reconstruction::Topology::Disc);
+        else
+          return fail ("unknown topology '" + t + "' (sphere|disc)");
+      }
+      else if (arg == "-base") {
+        const std::string b = value ();
+        if (b == "tetrahedron")
+          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Tetrahedron);
+        else if (b == "octahedron")
+          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Octahedron);
+        else if (b == "icosahedron")
+          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Icosahedron);
+        else
+          return fail ("unknown base '" + b + "' (tetrahedron|octahedron|icosahedron)");
+      }
+      else if (arg.size () > 1 && arg[0] == '-')
         return fail ("unknown option " + arg + " (see -h)");
       else
         positional.push_back (arg);
@@ -138,24 +224,28 @@ main (int argc, char** argv)
     }
   }
   const std::size_t expected_positional = generate.empty () ? 2 : 1;
-  if (positional.size () != expected_positional) {
-    usage (argv[0]);
-    return fail (generate.empty () ? "expected INPUT and OUTPUT" : "expected OUTPUT");
-  }
+  if (positional.size () != expected_positional)
+    return fail (generate.empty () ? "expected INPUT and OUTPUT (see -h)"
+                                   : "expected OUTPUT after -generate SHAPE (see -h)");
   const std::string output_path = positional.back ();
 
   auto cloud = pcl::make_shared<Cloud> ();
   auto start = Clock::now ();
   if (!generate.empty ()) {
     const auto colon = generate.find (':');
-    SyntheticShape shape;
-    if (!parseSyntheticShape (generate.substr (0, colon), shape))
-      return fail ("unknown shape '" + generate.substr (0, colon) + "'");
-    SyntheticCloudOptions options;
+    pcl::meshless::SyntheticShape shape;
+    if (!pcl::meshless::parseSyntheticShape (generate.substr (0, colon), shape))
+      return fail ("unknown shape '" + generate.substr (0, colon) + "' (see -h)");
+    pcl::meshless::SyntheticCloudOptions options;
     options.num_points = 20000;
-    if (colon != std::string::npos)
-      options.num_points = std::stoul (generate.substr (colon + 1));
-    for (const auto& p : sampleShape (shape, options))
+    try {
+      if (colon != std::string::npos)
+        options.num_points = std::stoul (generate.substr (colon + 1));
+    }
+    catch (const std::exception&) {
+      return fail ("the point count after ':' must be a number");
+    }
+    for (const auto& p : pcl::meshless::sampleShape (shape, options))
       cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
                                        static_cast<float> (p.z ())));
     std::printf ("input: generated %s, %zu points\n", generate.c_str (), cloud->size ());
@@ -170,54 +260,34 @@ main (int argc, char** argv)
   if (cloud->empty ())
     return fail ("the input cloud is empty");
 
-  // Paper §2: neighbourhoods, graph, Delaunay rings, weights.
+  reconstruction.setProgressCallback ([] (const pcl::meshless::ProgressReport& stage) {
+    std::printf ("  %-15s %7.3f s  %3.0f%%  %s\n", stage.stage.c_str (), stage.seconds,
+                 100.0 * stage.fraction, stage.detail.c_str ());
+    std::fflush (stdout);
+    return true;
+  });
+  reconstruction.setInputCloud (cloud);
+  pcl::PolygonMesh mesh;
   start = Clock::now ();
-  pcl::Indices indices (cloud->size ());
-  for (std::size_t i = 0; i < cloud->size (); ++i)
-    indices[i] = static_cast<pcl::index_t> (i);
-  pcl::search::KdTree<pcl::PointXYZ> tree;
-  tree.setInputCloud (cloud);
-  const Neighbourhoods nb = searchNeighbourhoods (tree, indices, neighbourhood);
-  if (!nb.success)
-    return fail (nb.message);
-  const CsrGraph graph = symmetricGraph (nb.neighbours);
-  std::vector<pcl::index_t> labels;
-  const std::size_t components = connectedComponents (graph, labels);
-  const double t_graph = secondsSince (start);
+  reconstruction.reconstruct (mesh);
+  const double seconds = secondsSince (start);
+  const pcl::SphericalMeshlessReport& report = reconstruction.getReport ();
+  if (!report.success)
+    return fail (report.message);
 
-  start = Clock::now ();
-  Points3 points (cloud->size ());
-  for (std::size_t i = 0; i < cloud->size (); ++i)
-    points[i] = (*cloud)[i].getVector3fMap ().cast<double> ();
-  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-  if (!ordered.success)
-    return fail (ordered.message);
-  const double t_order = secondsSince (start);
-
-  start = Clock::now ();
-  const Weights w = computeWeights (points, ordered.rings, graph, ordered.normals, weights);
-  if (!w.success)
-    return fail (w.message);
-  const double t_weights = secondsSince (start);
-
-  std::size_t open_rings = 0;
-  for (float gap : ordered.largest_gap)
-    open_rings += gap >= 3.14159265f;
-  std::printf ("neighbourhoods: %s, graph G %zu edges, mean degree %.2f, %zu component(s), "
-               "%zu isolated point(s)  [%.3f s]\n",
-               neighbourhood.radius > 0 ? "ball" : "k nearest", graph.numEntries () / 2,
-               static_cast<double> (graph.numEntries ()) / points.size (), components,
-               nb.num_empty, t_graph);
-  std::printf ("Delaunay rings: mean size %.2f, %zu point(s) not surrounded by their ring  "
-               "[%.3f s]\n",
-               static_cast<double> (ordered.rings.numEntries ()) / points.size (), open_rings,
-               t_order);
-  std::printf ("weights: %zu, %zu fallback(s) to reciprocal distance  [%.3f s]\n",
-               w.values.size (), w.num_fallbacks, t_weights);
-
-  if (pcl::io::savePLYFileBinary (output_path, *cloud) != 0)
-    return fail ("cannot write " + output_path);
-  std::printf ("wrote %s (the input cloud; the reconstruction lands with issues 3 and 4)\n",
-               output_path.c_str ());
+  if (reconstruction.getTopology () == Reconstruction::Topology::Sphere)
+    std::printf ("mesh: %zu triangles through %zu points (2n - 4 = %zu) in %.2f s\n",
+                 mesh.polygons.size (), report.num_points, 2 * report.num_points - 4, seconds);
+  else
+    std::printf ("mesh: %zu triangles through %zu points, %zu hole(s) kept open, in %.2f s\n",
+                 mesh.polygons.size (), report.num_points, report.holes, seconds);
+  std::printf ("check: %s\n", pcl::meshless::describe (report.mesh).c_str ());
+  if (report.num_duplicates > 0 || report.num_non_finite > 0)
+    std::printf ("input: %zu duplicate point(s) merged, %zu non-finite point(s) skipped\n",
+                 report.num_duplicates, report.num_non_finite);
+  const std::string error = saveMesh (output_path, mesh);
+  if (!error.empty ())
+    return fail (error);
+  std::printf ("wrote %s\n", output_path.c_str ());
   return 0;
 }

@@ -44,10 +44,11 @@ constexpr double kUnitRoundoff = std::numeric_limits<double>::epsilon () / 2.0;
 
 /** \brief A point on the integer grid and the input index it came from.
   *
-  * The grid coordinates are integers below 2^kGridBits, stored as doubles: each is either
-  * the input coordinate scaled by a power of two (if that is already integral) or an
-  * integer below 2^53, so the doubles hold them exactly. Floating-point filters thus start
-  * from exact values, and the exact fallbacks convert them to 128 bits without loss.
+  * The grid coordinates are integers below 2^kGridBits, stored as doubles: each is
+  * either the input coordinate scaled by a power of two (if that is already integral)
+  * or an integer below 2^53, so the doubles hold them exactly. Floating-point filters
+  * thus start from exact values, and the exact fallbacks convert them to 128 bits
+  * without loss.
   */
 struct GridPoint
 {
@@ -106,11 +107,12 @@ strictlyBetween (const GridPoint& a, const GridPoint& b, const GridPoint& p)
   return (a.y < p.y && p.y < b.y) || (b.y < p.y && p.y < a.y);
 }
 
-/** \brief Sign of the incircle test: +1 if d lies strictly inside the circle through the
-  * counter-clockwise a, b, c, 0 if on it, -1 outside.
+/** \brief Sign of the incircle test: +1 if d lies strictly inside the circle through
+  * the counter-clockwise a, b, c, 0 if on it, -1 outside.
   */
 int
-incircle (const GridPoint& a, const GridPoint& b, const GridPoint& c, const GridPoint& d)
+incircle (const GridPoint& a, const GridPoint& b, const GridPoint& c,
+          const GridPoint& d)
 {
   const double adx = a.x - d.x, ady = a.y - d.y;
   const double bdx = b.x - d.x, bdy = b.y - d.y;
@@ -121,14 +123,14 @@ incircle (const GridPoint& a, const GridPoint& b, const GridPoint& c, const Grid
   const double alift = adx * adx + ady * ady;
   const double blift = bdx * bdx + bdy * bdy;
   const double clift = cdx * cdx + cdy * cdy;
-  const double det = alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) +
-                     clift * (adxbdy - bdxady);
-  // Each monomial of the determinant passes through at most 11 roundings: its 4 factors'
-  // differences, square, lift sum, product, minor difference, lift times minor and two
-  // additions. Its relative error is therefore below 11u and the absolute error below 11u
-  // times the permanent (the determinant with all terms made positive), which itself is
-  // computed with a relative error far below 1/11. 12u covers both; the values (integers
-  // below 2^489) can neither overflow nor underflow.
+  const double det =
+      alift * (bdxcdy - cdxbdy) + blift * (cdxady - adxcdy) + clift * (adxbdy - bdxady);
+  // Each monomial of the determinant passes through at most 11 roundings: its 4
+  // factors' differences, square, lift sum, product, minor difference, lift times minor
+  // and two additions. Its relative error is therefore below 11u and the absolute error
+  // below 11u times the permanent (the determinant with all terms made positive), which
+  // itself is computed with a relative error far below 1/11. 12u covers both; the
+  // values (integers below 2^489) can neither overflow nor underflow.
   const double permanent = (std::abs (bdxcdy) + std::abs (cdxbdy)) * alift +
                            (std::abs (cdxady) + std::abs (adxcdy)) * blift +
                            (std::abs (adxbdy) + std::abs (bdxady)) * clift;
@@ -149,18 +151,19 @@ incircle (const GridPoint& a, const GridPoint& b, const GridPoint& c, const Grid
   return exact.sign ();
 }
 
-/** \brief Moves the median of [first, last) along `axis` (ascending or descending) to the
-  * middle, smaller elements before it, and returns the middle.
+/** \brief Moves the median of [first, last) along `axis` (ascending or descending) to
+  * the middle, the elements that come earlier in that order before it, and returns the
+  * middle.
   */
 GridPoint*
 medianSplit (GridPoint* first, GridPoint* last, int axis, bool ascending)
 {
   GridPoint* middle = first + (last - first) / 2;
-  std::nth_element (first, middle, last, [axis, ascending] (const GridPoint& a,
-                                                            const GridPoint& b) {
-    const double key_a = axis == 0 ? a.x : a.y, key_b = axis == 0 ? b.x : b.y;
-    return ascending ? key_a < key_b : key_b < key_a;
-  });
+  std::nth_element (
+      first, middle, last, [axis, ascending] (const GridPoint& a, const GridPoint& b) {
+        const double key_a = axis == 0 ? a.x : a.y, key_b = axis == 0 ? b.x : b.y;
+        return ascending ? key_a < key_b : key_b < key_a;
+      });
   return middle;
 }
 
@@ -174,7 +177,8 @@ medianSplit (GridPoint* first, GridPoint* last, int axis, bool ascending)
   * so the recursion depth is logarithmic however strongly the points cluster.
   */
 void
-hilbertSort (GridPoint* first, GridPoint* last, int axis, bool ascending, bool ascending_other)
+hilbertSort (GridPoint* first, GridPoint* last, int axis, bool ascending,
+             bool ascending_other)
 {
   if (last - first < 2)
     return;
@@ -188,8 +192,8 @@ hilbertSort (GridPoint* first, GridPoint* last, int axis, bool ascending, bool a
   hilbertSort (m3, last, other, !ascending_other, !ascending);
 }
 
-/** \brief Biased randomized insertion order: after a random shuffle, the last half of the
-  * points forms the last round, the quarter before it the round before, and so on;
+/** \brief Biased randomized insertion order: after a random shuffle, the last half of
+  * the points forms the last round, the quarter before it the round before, and so on;
   * each round is Hilbert sorted. The randomness bounds the expected work of the
   * incremental construction, the sorting keeps consecutive insertions close together.
   */
@@ -200,8 +204,7 @@ brioOrder (std::vector<GridPoint>& points, std::uint32_t seed)
   std::mt19937 random (seed);
   std::shuffle (points.begin (), points.end (), random);
   std::size_t end = points.size ();
-  while (end > 0)
-  {
+  while (end > 0) {
     const std::size_t begin = end <= kFirstRound ? 0 : end / 2;
     hilbertSort (points.data () + begin, points.data () + end, 0, true, true);
     end = begin;
@@ -210,11 +213,11 @@ brioOrder (std::vector<GridPoint>& points, std::uint32_t seed)
 
 /** \brief Incremental Delaunay triangulation of the plane closed by an infinite vertex.
   *
-  * Triangles are stored as corners: corner c = 3 t + i is the i-th vertex of triangle t,
-  * counter-clockwise. `opposite_[c]` is the corner of the neighbouring triangle that faces
-  * c across the edge opposite c, so walking and relinking need no searches. Ghost
-  * triangles contain the infinite vertex; a ghost (u, v, inf) lies across the hull
-  * edge whose finite triangle traverses it as v -> u.
+  * Triangles are stored as corners: corner c = 3 t + i is the i-th vertex of triangle
+  * t, counter-clockwise. `opposite_[c]` is the corner of the neighbouring triangle that
+  * faces c across the edge opposite c, so walking and relinking need no searches. Ghost
+  * triangles contain the infinite vertex; a ghost (u, v, inf) lies across the hull edge
+  * whose finite triangle traverses it as v -> u.
   */
 class DelaunayBuilder
 {
@@ -223,8 +226,8 @@ public:
     * not collinear
     */
   explicit DelaunayBuilder (const std::vector<GridPoint>& points)
-  : points_ (points), infinite_ (static_cast<int> (points.size ())),
-    duplicate_of_ (points.size (), -1), triangle_at_ (points.size () + 1)
+      : points_ (points), infinite_ (static_cast<int> (points.size ())),
+        duplicate_of_ (points.size (), -1), triangle_at_ (points.size () + 1)
   {
     const std::size_t max_triangles = 2 * points.size ();
     vertex_.reserve (3 * max_triangles);
@@ -241,8 +244,7 @@ public:
     // The third point lies strictly outside one of the two (coinciding) hull edges.
     insert (2, orient (points_[0], points_[1], points_[2]) > 0 ? t0 : t1);
 
-    for (int p = 3; p < infinite_; ++p)
-    {
+    for (int p = 3; p < infinite_; ++p) {
       const int t = locate (p);
       const int twin = coincidentVertex (t, p);
       if (twin >= 0)
@@ -253,8 +255,7 @@ public:
   }
 
   /** \brief Writes triangles, hull and duplicates (indices of the input points). */
-  void
-  extract (Delaunay2DResult& result) const
+  void extract (Delaunay2DResult& result) const
   {
     // Each vertex is represented by the smallest input index at its grid node.
     std::vector<pcl::index_t> representative (points_.size ());
@@ -267,11 +268,10 @@ public:
 
     result.duplicate_of.assign (points_.size (), -1);
     result.num_duplicates = 0;
-    for (std::size_t p = 0; p < points_.size (); ++p)
-    {
-      const int vertex = duplicate_of_[p] >= 0 ? duplicate_of_[p] : static_cast<int> (p);
-      if (representative[vertex] != points_[p].index)
-      {
+    for (std::size_t p = 0; p < points_.size (); ++p) {
+      const int vertex =
+          duplicate_of_[p] >= 0 ? duplicate_of_[p] : static_cast<int> (p);
+      if (representative[vertex] != points_[p].index) {
         result.duplicate_of[points_[p].index] = representative[vertex];
         ++result.num_duplicates;
       }
@@ -281,8 +281,7 @@ public:
     int ghost = -1;
     result.triangles.clear ();
     result.triangles.reserve (num_triangles);
-    for (int t = 0; t < num_triangles; ++t)
-    {
+    for (int t = 0; t < num_triangles; ++t) {
       if (isGhost (t))
         ghost = t;
       else
@@ -291,21 +290,21 @@ public:
                                      representative[vertex_[3 * t + 2]]});
     }
 
-    // Walk the ghosts around the hull: in ghost (u, v, inf) the hull runs v -> u, and the
-    // next ghost lies across the edge (inf, u), which is opposite v.
+    // Walk the ghosts around the hull: in ghost (u, v, inf) the hull runs v -> u, and
+    // the next ghost lies across the edge (inf, u), which is opposite v.
     std::vector<int> hull;
     int t = ghost;
-    do
-    {
+    do {
       const int inf_corner = cornerOf (t, infinite_);
       const int v_corner = prev (inf_corner);
       hull.push_back (vertex_[v_corner]);
       t = opposite_[v_corner] / 3;
     } while (t != ghost);
-    const auto first = std::min_element (hull.begin (), hull.end (), [this] (int a, int b) {
-      return std::make_pair (points_[a].x, points_[a].y) <
-             std::make_pair (points_[b].x, points_[b].y);
-    });
+    const auto first =
+        std::min_element (hull.begin (), hull.end (), [this] (int a, int b) {
+          return std::make_pair (points_[a].x, points_[a].y) <
+                 std::make_pair (points_[b].x, points_[b].y);
+        });
     std::rotate (hull.begin (), first, hull.end ());
     result.hull.clear ();
     result.hull.reserve (hull.size ());
@@ -321,20 +320,11 @@ private:
     int outer_corner;
   };
 
-  static int
-  next (int c)
-  {
-    return c % 3 == 2 ? c - 2 : c + 1;
-  }
+  static int next (int c) { return c % 3 == 2 ? c - 2 : c + 1; }
 
-  static int
-  prev (int c)
-  {
-    return c % 3 == 0 ? c + 2 : c - 1;
-  }
+  static int prev (int c) { return c % 3 == 0 ? c + 2 : c - 1; }
 
-  int
-  newTriangle ()
+  int newTriangle ()
   {
     vertex_.resize (vertex_.size () + 3);
     opposite_.resize (opposite_.size () + 3);
@@ -342,51 +332,45 @@ private:
     return static_cast<int> (stamp_.size ()) - 1;
   }
 
-  void
-  setVertices (int t, int a, int b, int c)
+  void setVertices (int t, int a, int b, int c)
   {
     vertex_[3 * t] = a;
     vertex_[3 * t + 1] = b;
     vertex_[3 * t + 2] = c;
   }
 
-  void
-  link (int c, int d)
+  void link (int c, int d)
   {
     opposite_[c] = d;
     opposite_[d] = c;
   }
 
-  bool
-  isGhost (int t) const
+  bool isGhost (int t) const
   {
     return vertex_[3 * t] == infinite_ || vertex_[3 * t + 1] == infinite_ ||
            vertex_[3 * t + 2] == infinite_;
   }
 
-  int
-  cornerOf (int t, int v) const
+  int cornerOf (int t, int v) const
   {
-    return vertex_[3 * t] == v ? 3 * t : vertex_[3 * t + 1] == v ? 3 * t + 1 : 3 * t + 2;
+    return vertex_[3 * t] == v       ? 3 * t
+           : vertex_[3 * t + 1] == v ? 3 * t + 1
+                                     : 3 * t + 2;
   }
 
   /** \brief Orientation of point p with respect to the edge opposite corner c. */
-  int
-  orientEdge (int c, int p) const
+  int orientEdge (int c, int p) const
   {
     return orient (points_[vertex_[next (c)]], points_[vertex_[prev (c)]], points_[p]);
   }
 
   /** \brief True if inserting p destroys triangle t (see the file documentation). */
-  bool
-  inConflict (int t, int p) const
+  bool inConflict (int t, int p) const
   {
     const GridPoint& q = points_[p];
-    for (int i = 0; i < 3; ++i)
-    {
+    for (int i = 0; i < 3; ++i) {
       const int c = 3 * t + i;
-      if (vertex_[c] == infinite_)
-      {
+      if (vertex_[c] == infinite_) {
         const GridPoint& u = points_[vertex_[next (c)]];
         const GridPoint& v = points_[vertex_[prev (c)]];
         const int side = orient (u, v, q);
@@ -397,28 +381,26 @@ private:
                      points_[vertex_[3 * t + 2]], q) > 0;
   }
 
-  /** \brief Finds a finite triangle containing p (closed) or a ghost whose hull edge has p
-    * strictly outside; either is in conflict with p unless p coincides with a vertex.
+  /** \brief Finds a finite triangle containing p (closed) or a ghost whose hull edge
+    * has p strictly outside; either is in conflict with p unless p coincides with a
+    * vertex.
     *
     * Visibility walk from the last insertion: leave through an edge that has p strictly
     * on its far side. A fixed order of testing the edges is only known to terminate in
     * Delaunay triangulations without cocircular points; starting at a random edge makes
     * the walk terminate in any triangulation.
     */
-  int
-  locate (int p)
+  int locate (int p)
   {
     int t = last_finite_;
     int entry = -1; // the corner facing the edge we came through; p is not beyond it
-    for (;;)
-    {
+    for (;;) {
       random_ ^= random_ << 13;
       random_ ^= random_ >> 17;
       random_ ^= random_ << 5;
       const int start = static_cast<int> (random_ % 3);
       int exit = -1;
-      for (int k = 0; k < 3 && exit < 0; ++k)
-      {
+      for (int k = 0; k < 3 && exit < 0; ++k) {
         const int c = 3 * t + (start + k) % 3;
         if (c != entry && orientEdge (c, p) < 0)
           exit = c;
@@ -433,11 +415,9 @@ private:
   }
 
   /** \brief The vertex of t at the grid node of p, or -1. */
-  int
-  coincidentVertex (int t, int p) const
+  int coincidentVertex (int t, int p) const
   {
-    for (int i = 0; i < 3; ++i)
-    {
+    for (int i = 0; i < 3; ++i) {
       const int v = vertex_[3 * t + i];
       if (v != infinite_ && sameNode (points_[v], points_[p]))
         return v;
@@ -448,26 +428,22 @@ private:
   /** \brief Bowyer-Watson step: removes the triangles in conflict with p, which form a
     * region star-shaped from p that contains t, and fans its boundary to p.
     */
-  void
-  insert (int p, int t)
+  void insert (int p, int t)
   {
     ++current_stamp_;
     cavity_.assign (1, t);
     stack_.assign (1, t);
     stamp_[t] = current_stamp_;
     boundary_.clear ();
-    while (!stack_.empty ())
-    {
+    while (!stack_.empty ()) {
       const int s = stack_.back ();
       stack_.pop_back ();
-      for (int c = 3 * s; c < 3 * s + 3; ++c)
-      {
+      for (int c = 3 * s; c < 3 * s + 3; ++c) {
         const int outer = opposite_[c];
         const int u = outer / 3;
         if (stamp_[u] == current_stamp_)
           continue;
-        if (inConflict (u, p))
-        {
+        if (inConflict (u, p)) {
           stamp_[u] = current_stamp_;
           cavity_.push_back (u);
           stack_.push_back (u);
@@ -481,16 +457,14 @@ private:
     // slots and append two. New triangle (p, a, b) sits on boundary edge a -> b.
     while (cavity_.size () < boundary_.size ())
       cavity_.push_back (newTriangle ());
-    for (std::size_t k = 0; k < boundary_.size (); ++k)
-    {
+    for (std::size_t k = 0; k < boundary_.size (); ++k) {
       const int n = cavity_[k];
       setVertices (n, p, boundary_[k].a, boundary_[k].b);
       link (3 * n, boundary_[k].outer_corner);
       triangle_at_[boundary_[k].a] = n;
     }
     // Neighbours around p: (p, a, b) meets (p, b, c) along p-b, opposite a and c.
-    for (std::size_t k = 0; k < boundary_.size (); ++k)
-    {
+    for (std::size_t k = 0; k < boundary_.size (); ++k) {
       const int n = cavity_[k];
       link (3 * n + 1, 3 * triangle_at_[vertex_[3 * n + 2]] + 2);
       if (!isGhost (n))
@@ -535,11 +509,11 @@ triangulate (const Points2& points, const Delaunay2DOptions& options)
     return failure ("more than " + std::to_string (kMaxPoints) + " points.");
 
   double max_abs = 0.0;
-  for (std::size_t i = 0; i < n; ++i)
-  {
+  for (std::size_t i = 0; i < n; ++i) {
     if (!std::isfinite (points[i].x ()) || !std::isfinite (points[i].y ()))
       return failure ("point " + std::to_string (i) + " has a non-finite coordinate.");
-    max_abs = std::max ({max_abs, std::abs (points[i].x ()), std::abs (points[i].y ())});
+    max_abs =
+        std::max ({max_abs, std::abs (points[i].x ()), std::abs (points[i].y ())});
   }
   if (max_abs == 0.0)
     return failure ("all points coincide.");
@@ -547,10 +521,13 @@ triangulate (const Points2& points, const Delaunay2DOptions& options)
   // Largest power of two 2^e with max_abs 2^e < 2^kGridBits: ldexp by it is exact, and
   // rounding changes only values below 2^52 (see GridPoint).
   const int exponent = kGridBits - 1 - std::ilogb (max_abs);
-  const auto snap = [exponent] (double v) { return std::round (std::ldexp (v, exponent)); };
+  const auto snap = [exponent] (double v) {
+    return std::round (std::ldexp (v, exponent));
+  };
   std::vector<GridPoint> order (n);
   for (std::size_t i = 0; i < n; ++i)
-    order[i] = {snap (points[i].x ()), snap (points[i].y ()), static_cast<pcl::index_t> (i)};
+    order[i] = {snap (points[i].x ()), snap (points[i].y ()),
+                static_cast<pcl::index_t> (i)};
 
   brioOrder (order, options.random_seed);
 
@@ -581,12 +558,9 @@ Delaunay2DResult
 delaunay2D (const Points2& points, const Delaunay2DOptions& options)
 {
   // Only allocation can throw; the contract is to report, not to throw.
-  try
-  {
+  try {
     return triangulate (points, options);
-  }
-  catch (const std::exception& e)
-  {
+  } catch (const std::exception& e) {
     return failure (std::string ("out of resources: ") + e.what ());
   }
 }

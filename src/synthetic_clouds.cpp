@@ -46,6 +46,38 @@ fibonacciDirection (std::size_t i, std::size_t n, double jitter_u, double jitter
   return (p + step * (jitter_u * t1 + jitter_v * t2)).normalized ();
 }
 
+/** i-th of n points spread evenly by area on the ellipsoid with semi-axes 1, 1, 6:
+  * a Fibonacci lattice whose heights follow the ellipsoid's area density (the map
+  * (x, y, z) -> (x, y, 6z) stretches the sphere's area by
+  * 6 sqrt(1 - z^2 (1 - 1/36))), jittered by a quarter of the spacing. */
+Eigen::Vector3d
+ellipsoidPoint (std::size_t i, std::size_t n, double jitter_u, double jitter_v)
+{
+  constexpr double c = 6.0;
+  auto density = [] (double z) { return std::sqrt (1.0 - z * z * (1.0 - 1.0 / (c * c))); };
+  // Invert the cumulative area over z in [-1, 1] by bisection (monotone).
+  auto cumulative = [&] (double z) {
+    const int steps = 64;
+    double sum = 0.0;
+    const double h = (z + 1.0) / steps;
+    for (int k = 0; k < steps; ++k)
+      sum += h * density (-1.0 + (k + 0.5) * h);
+    return sum;
+  };
+  const double total = cumulative (1.0);
+  const double target = total * (static_cast<double> (i) + 0.5 + 0.25 * jitter_u) /
+                        static_cast<double> (n);
+  double lo = -1.0, hi = 1.0;
+  for (int iteration = 0; iteration < 50; ++iteration) {
+    const double mid = 0.5 * (lo + hi);
+    (cumulative (mid) < target ? lo : hi) = mid;
+  }
+  const double z = 0.5 * (lo + hi);
+  const double r = std::sqrt (std::max (0.0, 1.0 - z * z));
+  const double phi = golden_angle * (static_cast<double> (i) + 0.25 * jitter_v);
+  return {r * std::cos (phi), r * std::sin (phi), c * z};
+}
+
 } // namespace
 
 Points3
@@ -63,13 +95,9 @@ sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
     case SyntheticShape::Sphere:
       points.push_back (fibonacciDirection (i, n, ju, jv));
       break;
-    case SyntheticShape::Ellipsoid: {
-      // Uniform in the long axis' parameter gives area close to uniform away
-      // from the tips of a long ellipsoid.
-      const Eigen::Vector3d d = fibonacciDirection (i, n, ju, jv);
-      points.emplace_back (d.x (), d.y (), 6.0 * d.z ());
+    case SyntheticShape::Ellipsoid:
+      points.push_back (ellipsoidPoint (i, n, ju, jv));
       break;
-    }
     case SyntheticShape::BumpySphere: {
       const Eigen::Vector3d d = fibonacciDirection (i, n, ju, jv);
       points.push_back (bumpRadius (d) * d);

@@ -1,0 +1,214 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/common/point_tests.h> // pcl::isFinite
+#include <pcl/conversions.h>
+#include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+namespace pcl {
+
+template <typename PointInT>
+void
+SphericalMeshlessReconstruction<PointInT>::performReconstruction (pcl::PolygonMesh& output)
+{
+  if (!triangulate (output.polygons)) {
+    output.cloud.width = output.cloud.height = 0;
+    output.cloud.data.clear ();
+  }
+}
+
+template <typename PointInT>
+void
+SphericalMeshlessReconstruction<PointInT>::performReconstruction (
+    std::vector<pcl::Vertices>& polygons)
+{
+  triangulate (polygons);
+}
+
+template <typename PointInT>
+bool
+SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertices>& polygons)
+{
+  // The conductor: input -> plain arrays -> neighbourhoods through tree_ -> the
+  // PointT-free pipeline -> the check of the result -> polygons over cloud indices.
+  report_ = SphericalMeshlessReport ();
+  polygons.clear ();
+  auto fail = [&] (const std::string& why) {
+    report_.message = why;
+    PCL_ERROR ("[pcl::%s::reconstruct] %s\n", getClassName ().c_str (), why.c_str ());
+    polygons.clear ();
+    return false;
+  };
+
+  if (!(radius_ >= 0.0) || !std::isfinite (radius_))
+    return fail ("the search radius must be finite and not negative (setSearchRadius)");
+  if (radius_ == 0.0 && k_ < 3)
+    return fail ("the number of neighbours must be at least 3 (setNumberOfNeighbours)");
+  if (!input_ || !indices_)
+    return fail ("no input cloud (setInputCloud)");
+
+  // Finite points through indices_ (a repeated index is the same point), then
+  // exact duplicates merged into the first.
+  pcl::Indices finite;
+  finite.reserve (indices_->size ());
+  for (const auto i : *indices_) {
+    if (i < 0 || static_cast<std::size_t> (i) >= input_->size ())
+      return fail ("an index lies outside the input cloud (setIndices)");
+    if (pcl::isFinite ((*input_)[i]))
+      finite.push_back (i);
+    else
+      ++report_.num_non_finite;
+  }
+  std::sort (finite.begin (), finite.end ());
+  finite.erase (std::unique (finite.begin (), finite.end ()), finite.end ());
+  std::vector<std::size_t> order (finite.size ());
+  std::iota (order.begin (), order.end (), 0);
+  auto position = [&] (std::size_t k) { return (*input_)[finite[k]].getVector3fMap (); };
+  std::sort (order.begin (), order.end (), [&] (std::size_t a, std::size_t b) {
+    const auto pa = position (a), pb = position (b);
+    if (pa.x () != pb.x ())
+      return pa.x () < pb.x ();
+    if (pa.y () != pb.y ())
+      return pa.y () < pb.y ();
+    if (pa.z () != pb.z ())
+      return pa.z () < pb.z ();
+    return a < b;
+  });
+  std::vector<char> keep (finite.size (), 1);
+  for (std::size_t j = 1; j < order.size (); ++j)
+    if (position (order[j]) == position (order[j - 1])) {
+      keep[order[j]] = 0;
+      ++report_.num_duplicates;
+    }
+  pcl::Indices cloud_indices; // pipeline point i is input point cloud_indices[i], ascending
+  cloud_indices.reserve (finite.size ());
+  for (std::size_t k = 0; k < finite.size (); ++k)
+    if (keep[k])
+      cloud_indices.push_back (finite[k]);
+  const std::size_t n = cloud_indices.size ();
+  report_.num_points = n;
+  const bool sphere = topology_ == Topology::Sphere;
+  if (n < (sphere ? 4u : 3u))
+    return fail (std::string ("a ") + (sphere ? "closed surface needs at least four" : "disc needs at least three") +
+                 " distinct finite points; the input has " + std::to_string (n));
+
+  // Centre in double precision so that clouds far from the origin keep their
+  // accuracy in the geometric stages.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
+  for (const auto i : cloud_indices)
+    centroid += (*input_)[i].getVector3fMap ().template cast<double> ();
+  centroid /= static_cast<double> (n);
+  meshless::Points3 points (n);
+  for (std::size_t i = 0; i < n; ++i)
+    points[i] = (*input_)[cloud_indices[i]].getVector3fMap ().template cast<double> () - centroid;
+
+  ProgressCallback record = [this] (const meshless::ProgressReport& stage) {
+    report_.stage_seconds.emplace_back (stage.stage, stage.seconds);
+    return progress_ ? progress_ (stage) : true;
+  };
+  const auto search_start = std::chrono::steady_clock::now ();
+  meshless::NeighbourhoodOptions neighbourhood;
+  neighbourhood.k = k_;
+  neighbourhood.radius = radius_;
+  const meshless::Neighbourhoods nb =
+      meshless::searchNeighbourhoods (*tree_, cloud_indices, neighbourhood);
+  if (!nb.success)
+    return fail (nb.message);
+  if (nb.num_empty > 0)
+    return fail (std::to_string (nb.num_empty) + " point(s) have no neighbour" +
+                 (radius_ > 0.0 ? " within the search radius (increase setSearchRadius)"
+                                : " (check setNumberOfNeighbours)"));
+  if (!record ({"neighbourhoods",
+                0.02,
+                std::chrono::duration<double> (std::chrono::steady_clock::now () - search_start)
+                    .count (),
+                std::to_string (n) + " points"}))
+    return fail ("cancelled by the progress callback");
+
+  meshless::Triangles triangles;
+  if (sphere) {
+    meshless::SpherePipelineOptions options;
+    options.weights = weights_;
+    options.polyhedron = polyhedron_;
+    options.progress = record;
+    if (!base_faces_.empty ()) {
+      // The user's base mesh refers to cloud indices; the pipeline to its points.
+      for (const auto v : base_vertices_) {
+        const auto it = std::lower_bound (cloud_indices.begin (), cloud_indices.end (), v);
+        if (it == cloud_indices.end () || *it != v)
+          return fail ("a base mesh vertex is not a finite, distinct input point (setBaseMesh)");
+        options.user_base_mesh.vertices.push_back (
+            static_cast<pcl::index_t> (it - cloud_indices.begin ()));
+      }
+      for (const auto& face : base_faces_) {
+        if (face.vertices.size () != 3)
+          return fail ("base mesh faces must be triangles (setBaseMesh)");
+        options.user_base_mesh.faces.push_back ({static_cast<int> (face.vertices[0]),
+                                                 static_cast<int> (face.vertices[1]),
+                                                 static_cast<int> (face.vertices[2])});
+      }
+    }
+    meshless::SphereTriangulation result =
+        meshless::triangulateSphere (points, nb.neighbours, options);
+    report_.stats = result.stats;
+    if (!result.success)
+      return fail ("the spherical reconstruction failed: " + result.message);
+    triangles = std::move (result.triangles);
+  }
+  else {
+    meshless::DiscPipelineOptions options;
+    options.weights = weights_;
+    options.progress = record;
+    meshless::DiscTriangulation result = meshless::triangulateDisc (points, nb.neighbours, options);
+    if (!result.success)
+      return fail ("the disc reconstruction failed: " + result.message);
+    report_.holes = result.holes;
+    triangles = std::move (result.triangles);
+  }
+
+  // The class's own check of its result before it reports success.
+  const auto check_start = std::chrono::steady_clock::now ();
+  meshless::MeshCheckOptions check;
+  check.check_self_intersections = check_self_intersections_;
+  report_.mesh = meshless::checkMesh (points, triangles, check);
+  record ({"check", 1.0,
+           std::chrono::duration<double> (std::chrono::steady_clock::now () - check_start).count (),
+           ""});
+  const meshless::MeshReport& mesh = report_.mesh;
+  const bool valid =
+      sphere ? mesh.isSphereLike () && triangles.size () == 2 * n - 4 && mesh.signed_volume > 0.0
+             : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
+                   mesh.boundary_loops == 1 + report_.holes &&
+                   mesh.euler_characteristic == 1 - static_cast<long> (report_.holes);
+  if (!valid || mesh.unused_vertices != 0)
+    return fail ("the result failed its own check (a bug; please report it with the cloud): " +
+                 meshless::describe (mesh));
+  if (mesh.self_intersecting_pairs > 0)
+    PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect (noisy or thin "
+              "input); the mesh is %s and oriented all the same\n",
+              getClassName ().c_str (), mesh.self_intersecting_pairs, sphere ? "closed" : "manifold");
+
+  polygons.resize (triangles.size ());
+  for (std::size_t t = 0; t < triangles.size (); ++t) {
+    auto& vertices = polygons[t].vertices;
+    vertices.resize (3);
+    for (int k = 0; k < 3; ++k)
+      vertices[k] = static_cast<pcl::index_t> (cloud_indices[triangles[t][k]]);
+  }
+  report_.success = true;
+  return true;
+}
+
+} // namespace pcl
+
+#define PCL_INSTANTIATE_SphericalMeshlessReconstruction(T)                            \
+  template class PCL_EXPORTS pcl::SphericalMeshlessReconstruction<T>;

@@ -1,0 +1,81 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/parameterization.h>
+#include <pcl/surface/meshless/sphere_pipeline.h> // ProgressCallback
+#include <pcl/surface/meshless/types.h>
+#include <pcl/surface/meshless/weights.h>
+
+namespace pcl {
+namespace meshless {
+
+/** \brief The boundary loops of an open surface sampled by points. */
+struct BoundaryLoops : StageStatus
+{
+  /** \brief Each loop in cyclic order, the surface on its left (counter-clockwise
+    * around the oriented normals); the longest (in 3D) first: the outer boundary.
+    */
+  std::vector<std::vector<pcl::index_t>> loops;
+};
+
+/** \brief Find the boundary loops of an open surface.
+  *
+  * A point is on the boundary when its Delaunay ring leaves an angular gap of at
+  * least `min_gap` (radians; the ring does not surround it). From each such point
+  * the loop is walked along the mutual ring graph with the outer-face rule: having
+  * arrived at w from v, go on to the first neighbour of w counter-clockwise after
+  * v. The walk follows the boundary with the surface on its left, also through
+  * boundary points whose gap is smaller (concave corners).
+  * \param[in] normals the consistently oriented normals the rings turn around
+  * \param[in] rings rings counter-clockwise around `normals`
+  * \param[in] mutual the mutual ring graph
+  * \param[in] largest_gap per point (OrderedNeighbourhoods::largest_gap)
+  * \param[in] min_loop loops with fewer points are noise and dropped (default 8)
+  */
+BoundaryLoops
+findBoundaryLoops (const Points3& points,
+                   const std::vector<Eigen::Vector3f>& normals,
+                   const CsrGraph& rings,
+                   const CsrGraph& mutual,
+                   const std::vector<float>& largest_gap,
+                   double min_gap = 3.14159265358979323846,
+                   std::size_t min_loop = 8);
+
+struct DiscPipelineOptions
+{
+  /** \brief Default: WeightType::MeanValue. */
+  WeightType weights = WeightType::MeanValue;
+  SolveOptions solve;
+  ProgressCallback progress;
+};
+
+struct DiscTriangulation : StageStatus
+{
+  /** \brief Triangles over the point indices, oriented with the loops (normals
+    * on the side the oriented point normals point to). */
+  Triangles triangles;
+  /** \brief The outer boundary loop used for the parameterization. */
+  std::vector<pcl::index_t> outer_loop;
+  /** \brief Inner boundary loops (holes) kept open. */
+  std::size_t holes = 0;
+};
+
+/** \brief Floater-Reimers for an open surface with one outer boundary: graph,
+  * oriented rings, weights, the outer loop on the unit circle, one sparse solve,
+  * exact Delaunay of the parameter points, triangles back to 3D. Inner boundary
+  * loops (holes, depth-camera shadows) stay open: the triangles whose parameter
+  * centroid lies inside a hole's loop are removed.
+  * \param[in] neighbourhoods directed neighbourhoods N(v)
+  * \return fails if no boundary loop is found (a closed surface: use the
+  *         spherical pipeline) or a stage fails
+  */
+DiscTriangulation
+triangulateDisc (const Points3& points,
+                 const CsrGraph& neighbourhoods,
+                 const DiscPipelineOptions& options = {});
+
+} // namespace meshless
+} // namespace pcl

@@ -1,0 +1,167 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/types.h>
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pcl {
+namespace meshless {
+
+/** \brief What checkMesh examines besides the always computed topology and metrics. */
+struct MeshCheckOptions
+{
+  /** \brief Default: true. Look for pairs of triangles that meet other than in
+    * what they share (see MeshReport::self_intersecting_pairs). This is the only
+    * expensive part: O(F log F) plus one exact test per pair of triangles whose
+    * bounding boxes touch. */
+  bool check_self_intersections = true;
+  /** \brief Default: 8. How many intersecting pairs to list in
+    * MeshReport::intersecting_pairs (the smallest ones, so the list does not depend
+    * on the number of threads); 0 lists none. */
+  std::size_t max_listed_intersections = 8;
+  /** \brief Default: 0, meaning OpenMP's default. Threads for the per-triangle
+    * work; the report is the same for every thread count. */
+  int num_threads = 0;
+};
+
+/** \brief Topology, validity and quality of a triangle mesh.
+  *
+  * Terms used below:
+  * - a *face* is a triangle whose three indices are in range and pairwise distinct;
+  *   only faces take part in the topology (edges, Euler characteristic, components)
+  *   and the geometry. Triangles with an index out of range are counted in
+  *   invalid_triangles, those with a repeated index in degenerate_triangles.
+  * - a vertex is *used* if some face references it.
+  * - geometry (degeneracy by area, self-intersections, volume, angles) looks only at
+  *   faces whose three vertices have finite coordinates.
+  *
+  * `success` (from StageStatus) says whether the check ran to completion (it fails
+  * only when memory runs out or the mesh has more than 2^32 / 3 triangles), not
+  * whether the mesh is good: that is what the counts and the predicates tell.
+  */
+struct MeshReport : StageStatus
+{
+  /** \brief Size of the vertex array. */
+  std::size_t num_vertices = 0;
+  /** \brief Size of the triangle array (faces and non-faces). */
+  std::size_t num_triangles = 0;
+  /** \brief Faces: triangles with three distinct in-range indices (F in the Euler
+    * characteristic). */
+  std::size_t num_faces = 0;
+  /** \brief Triangles with a negative index or one not below num_vertices. */
+  std::size_t invalid_triangles = 0;
+  std::size_t used_vertices = 0, unused_vertices = 0;
+  /** \brief Used vertices with a non-finite coordinate. */
+  std::size_t non_finite_vertices = 0;
+  /** \brief Undirected edges of the faces. */
+  std::size_t num_edges = 0;
+  /** \brief Edges used by exactly one face. */
+  std::size_t boundary_edges = 0;
+  /** \brief Connected components of the graph formed by the boundary edges. On a
+    * manifold mesh these are disjoint simple loops; two loops touching at a
+    * (non-manifold) vertex count as one. */
+  std::size_t boundary_loops = 0;
+  /** \brief Edges used by more than two faces. */
+  std::size_t non_manifold_edges = 0;
+  /** \brief Used vertices whose incident edges are all manifold (one or two faces)
+    * but whose faces form more than one fan, a fan being a maximal set of faces
+    * connected through edges at the vertex (a bowtie has two). Vertices on a
+    * non-manifold edge are not counted here: non_manifold_edges reports them. */
+  std::size_t non_manifold_vertices = 0;
+  /** \brief Edges used by exactly two faces that traverse them in the same
+    * direction (the faces disagree on orientation). */
+  std::size_t inconsistent_edges = 0;
+  /** \brief Connected components of the faces, two faces being connected when they
+    * share a vertex (so a bowtie is one component). */
+  std::size_t components = 0;
+  /** \brief used_vertices - num_edges + num_faces. */
+  long euler_characteristic = 0;
+  /** \brief Total genus (sum over the components) of a manifold, consistently
+    * oriented mesh: (2 * components - euler_characteristic - boundary_loops) / 2;
+    * 0 for a sphere or a disc, 1 for a torus. -1 where isManifold () or
+    * isOriented () is false. */
+  long genus = -1;
+  /** \brief Triangles with a repeated (in-range) index, plus faces with finite
+    * coordinates whose vertices are exactly collinear (zero area in exact
+    * arithmetic, coincident vertices included). No tolerance: near-degenerate
+    * slivers show in the smallest-angle statistics instead. */
+  std::size_t degenerate_triangles = 0;
+  /** \brief Faces with the same vertex set as an earlier face (k copies count k-1),
+    * whatever their orientation. */
+  std::size_t duplicate_triangles = 0;
+  /** \brief Unordered pairs of faces whose closed point sets intersect in more than
+    * what their shared indices entitle them to: nothing for faces without a common
+    * vertex index, the vertex for one common index, the edge for two common indices;
+    * faces with all three indices in common always count. Coincidence is exact:
+    * "touching" means having a common point in exact arithmetic on the given double
+    * coordinates, so a vertex lying exactly on another face, distinct vertices at
+    * the same position, or coplanar faces folded onto each other across their
+    * shared edge all count, while a gap of one unit in the last place does not.
+    * Exactly degenerate faces are not tested (degenerate_triangles reports them).
+    * Zero if not checked. */
+  std::size_t self_intersecting_pairs = 0;
+  /** \brief Whether self_intersecting_pairs was computed. */
+  bool self_intersections_checked = false;
+  /** \brief The first intersecting pairs (i < j, sorted), at most
+    * MeshCheckOptions::max_listed_intersections of them. */
+  std::vector<std::pair<std::size_t, std::size_t>> intersecting_pairs;
+  /** \brief Sum of the signed volumes of the tetrahedra from the centroid of the
+    * used vertices to each face. Meaningful for closed meshes, where it is the
+    * enclosed volume, positive if the faces are counter-clockwise seen from outside.
+    */
+  double signed_volume = 0.0;
+  /** \brief Mean over the faces of the smallest interior angle, in degrees. */
+  double mean_min_angle_deg = 0.0;
+  /** \brief Share (0..1) of the faces whose smallest angle is below 10 degrees. */
+  double share_min_angle_below_10 = 0.0;
+
+  /** \brief Every triangle is a face, there is at least one, no two have the same
+    * vertex set, and every edge and every vertex is manifold. */
+  bool
+  isManifold () const;
+
+  /** \brief No edge used twice in the same direction. Combined with isManifold (),
+    * the faces are consistently oriented. */
+  bool
+  isOriented () const;
+
+  /** \brief Manifold, consistently oriented, without boundary. */
+  bool
+  isClosedManifold () const;
+
+  /** \brief Closed manifold, one component, Euler characteristic 2. */
+  bool
+  isSphereLike () const;
+
+  /** \brief Manifold, consistently oriented, one component, one boundary loop,
+    * Euler characteristic 1. */
+  bool
+  isDiscLike () const;
+};
+
+/** \brief Checks a triangle mesh: topology, degeneracies, self-intersections, volume
+  * and angle statistics. Never throws; the report is deterministic.
+  * \param[in] vertices the vertex positions
+  * \param[in] triangles index triples into vertices, counter-clockwise seen from
+  *            outside
+  * \param[in] options what to check
+  */
+MeshReport
+checkMesh (const Points3& vertices,
+           const Triangles& triangles,
+           const MeshCheckOptions& options = {});
+
+/** \brief A compact one-paragraph human summary of a report: the kind of surface,
+  * the sizes, every defect found, and the quality figures. */
+std::string
+describe (const MeshReport& report);
+
+} // namespace meshless
+} // namespace pcl

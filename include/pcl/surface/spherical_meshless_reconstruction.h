@@ -1,0 +1,241 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/Vertices.h>
+#include <pcl/surface/meshless/base_mesh.h>
+#include <pcl/surface/meshless/disc_pipeline.h>
+#include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/sphere_pipeline.h>
+#include <pcl/surface/meshless/weights.h>
+#include <pcl/surface/reconstruction.h>
+
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace pcl {
+
+/** \brief What the last reconstruct() call did: success or the reason, stage
+  * timings, the pipeline's statistics and the check of the result. */
+struct SphericalMeshlessReport
+{
+  bool success = false;
+  /** \brief Empty on success; else the cause, naming the parameter to check. */
+  std::string message;
+  /** \brief Finite input points used (after removing duplicates). */
+  std::size_t num_points = 0;
+  /** \brief Non-finite points skipped (only possible with is_dense = false). */
+  std::size_t num_non_finite = 0;
+  /** \brief Exact duplicates merged into the first point at the same position;
+    * they stay in the output cloud as unused vertices. */
+  std::size_t num_duplicates = 0;
+  /** \brief (stage, seconds) in order. */
+  std::vector<std::pair<std::string, double>> stage_seconds;
+  meshless::SpherePipelineStats stats;
+  /** \brief Disc topology: inner boundary loops (holes) kept open. */
+  std::size_t holes = 0;
+  /** \brief The check of the output mesh (valid when the pipeline produced one). */
+  meshless::MeshReport mesh;
+};
+
+/** \brief Closed, manifold, consistently oriented genus-0 triangulation through
+  * every point of a cloud sampled from a sphere-like object.
+  *
+  * Implements K. Hormann and M. Reimers, "Triangulating Point Clouds with Spherical
+  * Topology" (Curve and Surface Design: Saint-Malo 2002), which extends Floater and
+  * Reimers' meshless parameterization: neighbourhoods from the search method,
+  * convex-combination weights on Delaunay-ordered neighbourhoods, a base
+  * tetrahedron whose edges become shortest paths that cut the cloud into disc
+  * patches, one sparse linear solve and one exact 2D Delaunay triangulation per
+  * patch, merged into one closed triangulation.
+  *
+  * For n distinct points the result has exactly 2n - 4 triangles, every point is a
+  * vertex, every edge is shared by two triangles used in opposite directions, one
+  * component, Euler characteristic 2, normals pointing outward. The class checks
+  * these invariants on its own result; if they do not hold (or a stage fails) it
+  * logs PCL_ERROR with the cause and returns an empty mesh. Self-intersections
+  * are counted (getReport().mesh.self_intersecting_pairs) and reported with
+  * PCL_WARN: the topology is guaranteed, the embedding on noisy data is not.
+  *
+  * Exact duplicate points are merged (the first one is used; the others remain in
+  * the output cloud as unused vertices). Non-finite points are skipped.
+  *
+  * With setTopology (Topology::Disc) the class reconstructs an open surface (a
+  * partial scan, a face, terrain) instead: one boundary loop is found from the
+  * points' Delaunay rings, mapped to a circle, and the whole cloud is one patch.
+  * The result is one manifold, consistently oriented disc through every point.
+  * Inner boundary loops (holes) are kept open when they can be cut out cleanly;
+  * otherwise the reconstruction stops with a message saying so.
+  *
+  * \note Surfaces of higher genus are not sphere-like; see the README for what
+  *       happens with them.
+  * \ingroup surface
+  */
+template <typename PointInT>
+class SphericalMeshlessReconstruction : public MeshConstruction<PointInT>
+{
+public:
+  using Ptr = shared_ptr<SphericalMeshlessReconstruction<PointInT>>;
+  using ConstPtr = shared_ptr<const SphericalMeshlessReconstruction<PointInT>>;
+
+  using MeshConstruction<PointInT>::input_;
+  using MeshConstruction<PointInT>::indices_;
+  using MeshConstruction<PointInT>::tree_;
+  using MeshConstruction<PointInT>::reconstruct;
+
+  /** \brief The topology of the surface the cloud samples. */
+  enum class Topology
+  {
+    Sphere, ///< closed, genus 0 (default)
+    Disc    ///< open, one outer boundary (holes kept open where possible)
+  };
+  using WeightType = meshless::WeightType;
+  using BasePolyhedron = meshless::BasePolyhedron;
+  using ProgressCallback = meshless::ProgressCallback;
+
+  SphericalMeshlessReconstruction () = default;
+  ~SphericalMeshlessReconstruction () override = default;
+
+  /** \brief Number of nearest neighbours k of each point (paper: about 10-12).
+    * \param[in] k at least 3; default 12. Used when the search radius is 0. */
+  inline void
+  setNumberOfNeighbours (int k)
+  {
+    k_ = k;
+  }
+  inline int
+  getNumberOfNeighbours () const
+  {
+    return k_;
+  }
+
+  /** \brief Ball neighbourhoods of this radius instead of k nearest neighbours.
+    * \param[in] radius in the cloud's units; 0 (default) selects k nearest. */
+  inline void
+  setSearchRadius (double radius)
+  {
+    radius_ = radius;
+  }
+  inline double
+  getSearchRadius () const
+  {
+    return radius_;
+  }
+
+  /** \brief Closed sphere-like object (default) or open disc-like surface. */
+  inline void
+  setTopology (Topology topology)
+  {
+    topology_ = topology;
+  }
+  inline Topology
+  getTopology () const
+  {
+    return topology_;
+  }
+
+  /** \brief Convex-combination weights. Default: WeightType::MeanValue. */
+  inline void
+  setWeightType (WeightType type)
+  {
+    weights_ = type;
+  }
+  inline WeightType
+  getWeightType () const
+  {
+    return weights_;
+  }
+
+  /** \brief The regular polyhedron whose directions pick the base mesh D.
+    * Default: BasePolyhedron::Tetrahedron (the paper's). More faces give shorter
+    * paths and smaller, less distorted patches. */
+  inline void
+  setBasePolyhedron (BasePolyhedron polyhedron)
+  {
+    polyhedron_ = polyhedron;
+  }
+  inline BasePolyhedron
+  getBasePolyhedron () const
+  {
+    return polyhedron_;
+  }
+
+  /** \brief A user base mesh of sphere topology (paper §5) instead of a polyhedron.
+    * \param[in] vertices indices into the input cloud
+    * \param[in] faces triangles over positions into `vertices`, counter-clockwise
+    *            seen from outside
+    * \note validated at reconstruct(); an invalid mesh is an error. Pass empty
+    *       arrays to go back to the polyhedron. */
+  void
+  setBaseMesh (const pcl::Indices& vertices, const std::vector<pcl::Vertices>& faces)
+  {
+    base_vertices_ = vertices;
+    base_faces_ = faces;
+  }
+
+  /** \brief Called after each stage with its timing; return false to cancel. */
+  inline void
+  setProgressCallback (ProgressCallback callback)
+  {
+    progress_ = std::move (callback);
+  }
+
+  /** \brief Whether the output check counts self-intersecting triangle pairs
+    * (default true; costs about as much as one stage). */
+  inline void
+  setCheckSelfIntersections (bool check)
+  {
+    check_self_intersections_ = check;
+  }
+  inline bool
+  getCheckSelfIntersections () const
+  {
+    return check_self_intersections_;
+  }
+
+  /** \brief What the last reconstruct() did. */
+  inline const SphericalMeshlessReport&
+  getReport () const
+  {
+    return report_;
+  }
+
+protected:
+  std::string
+  getClassName () const override
+  {
+    return "SphericalMeshlessReconstruction";
+  }
+
+  void
+  performReconstruction (pcl::PolygonMesh& output) override;
+
+  void
+  performReconstruction (std::vector<pcl::Vertices>& polygons) override;
+
+private:
+  /** \brief Runs the pipeline; fills report_ and, on success, polygons over
+    * indices of the input cloud. */
+  bool
+  triangulate (std::vector<pcl::Vertices>& polygons);
+
+  Topology topology_ = Topology::Sphere;
+  int k_ = 12;
+  double radius_ = 0.0;
+  WeightType weights_ = WeightType::MeanValue;
+  BasePolyhedron polyhedron_ = BasePolyhedron::Tetrahedron;
+  pcl::Indices base_vertices_;
+  std::vector<pcl::Vertices> base_faces_;
+  ProgressCallback progress_;
+  bool check_self_intersections_ = true;
+  SphericalMeshlessReport report_;
+};
+
+} // namespace pcl
+
+#ifdef PCL_NO_PRECOMPILE
+#include <pcl/surface/impl/spherical_meshless_reconstruction.hpp>
+#endif

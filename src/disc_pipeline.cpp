@@ -1,0 +1,251 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/delaunay_2d.h>
+#include <pcl/surface/meshless/disc_pipeline.h>
+#include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/meshless/normal_orientation.h>
+#include <pcl/surface/meshless/ordered_neighbourhoods.h>
+#include <pcl/surface/meshless/patch_triangulation.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <numeric>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+/** Winding number of polygon `loop` (parameter points) around p. */
+int
+windingNumber (const Points2& uv, const std::vector<pcl::index_t>& loop, const Eigen::Vector2d& p)
+{
+  int winding = 0;
+  for (std::size_t k = 0; k < loop.size (); ++k) {
+    const Eigen::Vector2d& a = uv[loop[k]];
+    const Eigen::Vector2d& b = uv[loop[(k + 1) % loop.size ()]];
+    const double side = (b.x () - a.x ()) * (p.y () - a.y ()) - (p.x () - a.x ()) * (b.y () - a.y ());
+    if (a.y () <= p.y ()) {
+      if (b.y () > p.y () && side > 0.0)
+        ++winding;
+    }
+    else if (b.y () <= p.y () && side < 0.0)
+      --winding;
+  }
+  return winding;
+}
+
+} // namespace
+
+BoundaryLoops
+findBoundaryLoops (const Points3& points,
+                   const std::vector<Eigen::Vector3f>& normals,
+                   const CsrGraph& rings,
+                   const CsrGraph& mutual,
+                   const std::vector<float>& largest_gap,
+                   double min_gap,
+                   std::size_t min_loop)
+{
+  BoundaryLoops result;
+  const std::size_t n = points.size ();
+  // Each point's walkable neighbours: its ring members that are mutual, in ring
+  // (counter-clockwise) order.
+  auto walkable = [&] (pcl::index_t v, std::vector<pcl::index_t>& out) {
+    out.clear ();
+    for (const pcl::index_t* w = rings.begin (v); w != rings.end (v); ++w)
+      if (std::binary_search (mutual.begin (v), mutual.end (v), *w))
+        out.push_back (*w);
+  };
+
+  std::vector<pcl::index_t> candidates;
+  for (std::size_t v = 0; v < n; ++v)
+    if (largest_gap[v] >= min_gap)
+      candidates.push_back (static_cast<pcl::index_t> (v));
+  std::stable_sort (candidates.begin (), candidates.end (),
+                    [&] (pcl::index_t a, pcl::index_t b) { return largest_gap[a] > largest_gap[b]; });
+
+  std::vector<char> on_loop (n, 0);
+  std::vector<int> seen_in_walk (n, -1);
+  std::vector<pcl::index_t> around, around_next;
+  Points2 local;
+  int walk_id = 0;
+  for (const pcl::index_t start : candidates) {
+    if (on_loop[start])
+      continue;
+    ++walk_id;
+    walkable (start, around);
+    if (around.size () < 2)
+      continue;
+    // First step: the member at the end of the largest angular gap.
+    localCoordinates (points, start, around.data (), around.data () + around.size (),
+                      normals[start].cast<double> (), LocalPlane::ProjectOntoFit, local);
+    std::size_t gap_end = 0;
+    double widest = -1.0;
+    for (std::size_t j = 0; j < around.size (); ++j) {
+      const Eigen::Vector2d& a = local[j];
+      const Eigen::Vector2d& b = local[(j + 1) % around.size ()];
+      double angle = std::atan2 (a.x () * b.y () - a.y () * b.x (), a.dot (b));
+      if (angle <= 0.0)
+        angle += 2.0 * 3.14159265358979323846;
+      if (angle > widest) {
+        widest = angle;
+        gap_end = (j + 1) % around.size ();
+      }
+    }
+    std::vector<pcl::index_t> loop = {start};
+    seen_in_walk[start] = walk_id;
+    pcl::index_t previous = start, current = around[gap_end];
+    bool closed = false;
+    while (loop.size () <= n) {
+      if (current == start) {
+        closed = true;
+        break;
+      }
+      if (seen_in_walk[current] == walk_id || on_loop[current])
+        break; // a figure of eight or another loop: not a simple boundary
+      seen_in_walk[current] = walk_id;
+      loop.push_back (current);
+      walkable (current, around_next);
+      const auto it = std::find (around_next.begin (), around_next.end (), previous);
+      if (it == around_next.end () || around_next.size () < 2)
+        break;
+      const std::size_t next = (static_cast<std::size_t> (it - around_next.begin ()) + 1) % around_next.size ();
+      previous = current;
+      current = around_next[next];
+    }
+    if (!closed || loop.size () < min_loop)
+      continue;
+    for (auto v : loop)
+      on_loop[v] = 1;
+    result.loops.push_back (std::move (loop));
+  }
+  auto length = [&] (const std::vector<pcl::index_t>& loop) {
+    double sum = 0.0;
+    for (std::size_t k = 0; k < loop.size (); ++k)
+      sum += (points[loop[(k + 1) % loop.size ()]] - points[loop[k]]).norm ();
+    return sum;
+  };
+  std::stable_sort (result.loops.begin (), result.loops.end (),
+                    [&] (const auto& a, const auto& b) { return length (a) > length (b); });
+  result.success = !result.loops.empty ();
+  if (!result.success)
+    result.message = "no boundary loop found: the cloud looks closed (use the sphere "
+                     "topology) or its boundary is too ragged for k neighbours";
+  return result;
+}
+
+DiscTriangulation
+triangulateDisc (const Points3& points,
+                 const CsrGraph& neighbourhoods,
+                 const DiscPipelineOptions& options)
+{
+  DiscTriangulation result;
+  const std::size_t n = points.size ();
+  auto start = std::chrono::steady_clock::now ();
+  auto report = [&] (const std::string& stage, double fraction, const std::string& detail) {
+    const auto now = std::chrono::steady_clock::now ();
+    const double seconds = std::chrono::duration<double> (now - start).count ();
+    start = now;
+    return !options.progress || options.progress ({stage, fraction, seconds, detail});
+  };
+  if (n < 3) {
+    result.message = "an open surface needs at least three points";
+    return result;
+  }
+  const CsrGraph graph = symmetricGraph (neighbourhoods);
+  std::vector<pcl::index_t> component;
+  if (connectedComponents (graph, component) != 1) {
+    result.message = "the neighbourhood graph is disconnected (several pieces, outliers, or "
+                     "too few neighbours: increase k or the radius)";
+    return result;
+  }
+  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
+  const CsrGraph mutual = mutualRingGraph (ordered.rings);
+  const NormalOrientation orientation = orientNormals (points, graph, mutual, ordered);
+  if (!ordered.success || !orientation.success) {
+    result.message = ordered.success ? orientation.message : ordered.message;
+    return result;
+  }
+  const Weights weights =
+      computeWeights (points, ordered.rings, graph, ordered.normals, {options.weights});
+  if (!report ("rings and weights", 0.3, std::to_string (weights.num_fallbacks) + " fallbacks")) {
+    result.message = "cancelled by the progress callback";
+    return result;
+  }
+
+  const BoundaryLoops boundary =
+      findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap);
+  if (!boundary.success) {
+    result.message = boundary.message;
+    return result;
+  }
+  Patch patch;
+  patch.loop = boundary.loops.front ();
+  patch.points = patch.loop;
+  std::vector<char> on_outer (n, 0);
+  for (auto v : patch.loop)
+    on_outer[v] = 1;
+  for (std::size_t v = 0; v < n; ++v)
+    if (!on_outer[v])
+      patch.points.push_back (static_cast<pcl::index_t> (v));
+  if (!report ("boundary", 0.4,
+               std::to_string (patch.loop.size ()) + " points on the outer loop, " +
+                   std::to_string (boundary.loops.size () - 1) + " inner loop(s)")) {
+    result.message = "cancelled by the progress callback";
+    return result;
+  }
+
+  PatchTriangulation disc = triangulatePatch (points, weights, patch, options.solve);
+  if (!disc.success) {
+    result.message = disc.message;
+    return result;
+  }
+
+  // Holes stay open: drop the triangles whose parameter centroid lies inside an
+  // inner loop's parameter polygon.
+  Triangles kept = disc.triangles;
+  if (boundary.loops.size () > 1) {
+    std::vector<pcl::index_t> local_of (n, -1);
+    for (std::size_t i = 0; i < patch.points.size (); ++i)
+      local_of[patch.points[i]] = static_cast<pcl::index_t> (i);
+    std::vector<std::vector<pcl::index_t>> holes;
+    for (std::size_t h = 1; h < boundary.loops.size (); ++h) {
+      std::vector<pcl::index_t> hole;
+      for (auto v : boundary.loops[h])
+        hole.push_back (local_of[v]);
+      holes.push_back (std::move (hole));
+    }
+    kept.clear ();
+    for (const Triangle& t : disc.triangles) {
+      const Eigen::Vector2d centroid =
+          (disc.uv[local_of[t[0]]] + disc.uv[local_of[t[1]]] + disc.uv[local_of[t[2]]]) / 3.0;
+      bool in_hole = false;
+      for (const auto& hole : holes)
+        in_hole = in_hole || windingNumber (disc.uv, hole, centroid) != 0;
+      if (!in_hole)
+        kept.push_back (t);
+    }
+    MeshCheckOptions light;
+    light.check_self_intersections = false;
+    const MeshReport cut = checkMesh (points, kept, light);
+    if (!cut.isManifold () || !cut.isOriented () || cut.components != 1) {
+      result.message = std::to_string (holes.size ()) +
+                       " inner boundary loop(s) (holes) could not be cut out cleanly; "
+                       "the parameterization folds around them";
+      return result;
+    }
+    result.holes = holes.size ();
+  }
+  result.triangles = std::move (kept);
+  result.outer_loop = patch.loop;
+  report ("triangulation", 1.0, std::to_string (result.triangles.size ()) + " triangles");
+  result.success = true;
+  return result;
+}
+
+} // namespace meshless
+} // namespace pcl

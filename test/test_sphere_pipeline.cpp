@@ -1,0 +1,173 @@
+// §3-§4 end to end, PointT-free: paths, split and the closed result on synthetic
+// sphere-like clouds.
+#include <pcl/surface/meshless/cut_paths.h>
+#include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/normal_orientation.h>
+#include <pcl/surface/meshless/patch_split.h>
+#include <pcl/surface/meshless/sphere_pipeline.h>
+#include <pcl/surface/meshless/synthetic_clouds.h>
+
+#include "test_support.h"
+
+#include <set>
+
+using namespace pcl::meshless;
+
+namespace {
+
+/** Directed k-nearest neighbourhoods by brute force (what the conductor gets from
+  * PCL's search). */
+CsrGraph
+bruteForceNeighbourhoods (const Points3& points, int k)
+{
+  CsrGraph directed;
+  directed.offsets.push_back (0);
+  std::vector<std::pair<double, pcl::index_t>> d;
+  for (std::size_t v = 0; v < points.size (); ++v) {
+    d.clear ();
+    for (std::size_t w = 0; w < points.size (); ++w)
+      if (w != v)
+        d.emplace_back ((points[w] - points[v]).squaredNorm (), static_cast<pcl::index_t> (w));
+    std::partial_sort (d.begin (), d.begin () + k, d.end ());
+    for (int j = 0; j < k; ++j)
+      directed.adjacency.push_back (d[j].second);
+    directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
+  }
+  return directed;
+}
+
+void
+expectClosedSphere (const Points3& points, const SphereTriangulation& result)
+{
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_EQ (result.triangles.size (), 2 * points.size () - 4);
+  const MeshReport report = checkMesh (points, result.triangles);
+  EXPECT_TRUE (report.isSphereLike ()) << describe (report);
+  EXPECT_EQ (report.unused_vertices, 0u);
+  EXPECT_EQ (report.self_intersecting_pairs, 0u) << describe (report);
+  EXPECT_GT (report.signed_volume, 0.0) << "normals must point outward";
+}
+
+} // namespace
+
+TEST (SpherePipeline, SyntheticShapesCloseUpWithEveryInvariant)
+{
+  for (SyntheticShape shape :
+       {SyntheticShape::Sphere, SyntheticShape::Ellipsoid, SyntheticShape::BumpySphere}) {
+    const Points3 points = sampleShape (shape, {3000, 7, 0.0});
+    expectClosedSphere (points, triangulateSphere (points, bruteForceNeighbourhoods (points, 12)));
+  }
+}
+
+TEST (SpherePipeline, EveryBasePolyhedronAndWeightTypeCloseUp)
+{
+  const Points3 points = sampleShape (SyntheticShape::BumpySphere, {3000, 9, 0.0});
+  const CsrGraph nb = bruteForceNeighbourhoods (points, 12);
+  for (BasePolyhedron base :
+       {BasePolyhedron::Tetrahedron, BasePolyhedron::Octahedron, BasePolyhedron::Icosahedron}) {
+    SpherePipelineOptions options;
+    options.polyhedron = base;
+    const SphereTriangulation result = triangulateSphere (points, nb, options);
+    expectClosedSphere (points, result);
+    EXPECT_EQ (result.stats.base_faces,
+               base == BasePolyhedron::Tetrahedron ? 4u : base == BasePolyhedron::Octahedron ? 8u : 20u);
+  }
+  for (WeightType type : {WeightType::Uniform, WeightType::ReciprocalDistance,
+                          WeightType::ShapePreserving, WeightType::MeanValue}) {
+    SpherePipelineOptions options;
+    options.weights = type;
+    expectClosedSphere (points, triangulateSphere (points, nb, options));
+  }
+}
+
+TEST (SpherePipeline, DeterministicAndReportsEveryStage)
+{
+  const Points3 points = sampleShape (SyntheticShape::Ellipsoid, {2500, 4, 0.0});
+  const CsrGraph nb = bruteForceNeighbourhoods (points, 12);
+  std::vector<std::string> stages;
+  SpherePipelineOptions options;
+  options.progress = [&] (const ProgressReport& r) {
+    stages.push_back (r.stage);
+    EXPECT_GE (r.seconds, 0.0);
+    EXPECT_GE (r.fraction, 0.0);
+    EXPECT_LE (r.fraction, 1.0);
+    return true;
+  };
+  const SphereTriangulation a = triangulateSphere (points, nb, options);
+  const SphereTriangulation b = triangulateSphere (points, nb, options);
+  ASSERT_TRUE (a.success) << a.message;
+  EXPECT_EQ (a.triangles, b.triangles);
+  EXPECT_GE (stages.size (), 10u);
+
+  options.progress = [] (const ProgressReport&) { return false; };
+  const SphereTriangulation cancelled = triangulateSphere (points, nb, options);
+  EXPECT_FALSE (cancelled.success);
+  EXPECT_TRUE (cancelled.triangles.empty ());
+  EXPECT_NE (cancelled.message.find ("cancelled"), std::string::npos);
+}
+
+TEST (SpherePipeline, PathsAreSimpleDisjointAndRegionsPartitionTheRest)
+{
+  const Points3 points = sampleShape (SyntheticShape::BumpySphere, {3000, 5, 0.0});
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
+  const CsrGraph mutual = mutualRingGraph (ordered.rings);
+  ASSERT_TRUE (orientNormals (points, graph, mutual, ordered).success);
+  std::size_t outward = 0;
+  for (std::size_t v = 0; v < points.size (); ++v)
+    outward += ordered.normals[v].cast<double> ().dot (points[v]) > 0.0;
+  EXPECT_EQ (outward, points.size ()) << "a star-shaped cloud: every normal points away from 0";
+
+  const BaseMesh base = polyhedronBaseMesh (points, BasePolyhedron::Octahedron);
+  const CutPaths paths = computeCutPaths (points, mutual, ordered.rings, base);
+  ASSERT_TRUE (paths.success) << paths.message;
+  std::vector<int> uses (points.size (), 0);
+  std::set<pcl::index_t> corners (base.vertices.begin (), base.vertices.end ());
+  for (std::size_t e = 0; e < paths.edges.size (); ++e) {
+    const auto& path = paths.paths[e];
+    ASSERT_GE (path.size (), 2u);
+    EXPECT_EQ (path.front (), base.vertices[paths.edges[e][0]]);
+    EXPECT_EQ (path.back (), base.vertices[paths.edges[e][1]]);
+    for (std::size_t j = 0; j + 1 < path.size (); ++j)
+      EXPECT_TRUE (std::binary_search (mutual.begin (path[j]), mutual.end (path[j]), path[j + 1]))
+          << "consecutive path points must be joined by a graph edge";
+    for (std::size_t j = 1; j + 1 < path.size (); ++j) {
+      EXPECT_EQ (corners.count (path[j]), 0u) << "a path runs through another corner";
+      ++uses[path[j]];
+    }
+  }
+  for (int u : uses)
+    EXPECT_LE (u, 1) << "two paths share an inner point";
+
+  const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals);
+  const PatchSplit split =
+      splitIntoPatches (points, mutual, graph, ordered.rings, weights.neighbours, base, paths);
+  ASSERT_TRUE (split.success) << split.message;
+  ASSERT_EQ (split.patches.size (), base.faces.size ());
+  std::vector<int> interior_of (points.size (), 0);
+  for (const Patch& patch : split.patches) {
+    std::set<pcl::index_t> loop (patch.loop.begin (), patch.loop.end ());
+    EXPECT_EQ (loop.size (), patch.loop.size ()) << "a loop visits a point twice";
+    for (std::size_t j = patch.loop.size (); j < patch.points.size (); ++j)
+      ++interior_of[patch.points[j]];
+  }
+  for (std::size_t v = 0; v < points.size (); ++v) {
+    const bool on_path = split.face_of[v] < 0;
+    EXPECT_EQ (interior_of[v], on_path ? 0 : 1) << "point " << v;
+  }
+}
+
+TEST (SpherePipeline, TooFewPointsOrADisconnectedGraphIsAnError)
+{
+  const Points3 three = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
+  EXPECT_FALSE (triangulateSphere (three, bruteForceNeighbourhoods (three, 2)).success);
+
+  Points3 two_spheres = sampleShape (SyntheticShape::Sphere, {800, 1, 0.0});
+  const Points3 other = sampleShape (SyntheticShape::Sphere, {800, 2, 0.0});
+  for (const auto& p : other)
+    two_spheres.push_back (p + Eigen::Vector3d (10, 0, 0));
+  const SphereTriangulation result =
+      triangulateSphere (two_spheres, bruteForceNeighbourhoods (two_spheres, 12));
+  EXPECT_FALSE (result.success);
+  EXPECT_NE (result.message.find ("disconnected"), std::string::npos) << result.message;
+}

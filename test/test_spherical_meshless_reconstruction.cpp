@@ -1,0 +1,256 @@
+// The PCL class: the public face, input hygiene, failure contract, and the
+// invariants on real clouds.
+#include <pcl/io/pcd_io.h>
+#include <pcl/point_types.h>
+#include <pcl/search/kdtree.h>
+#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
+
+#include "test_support.h"
+
+#include <limits>
+#include <map>
+#include <set>
+
+namespace {
+
+template <typename PointT>
+typename pcl::PointCloud<PointT>::Ptr
+generatedCloud (pcl::meshless::SyntheticShape shape, std::size_t n, std::uint32_t seed = 1)
+{
+  auto cloud = pcl::make_shared<pcl::PointCloud<PointT>> ();
+  for (const auto& p : pcl::meshless::sampleShape (shape, {n, seed, 0.0})) {
+    PointT q;
+    q.x = static_cast<float> (p.x ());
+    q.y = static_cast<float> (p.y ());
+    q.z = static_cast<float> (p.z ());
+    cloud->push_back (q);
+  }
+  return cloud;
+}
+
+/** Invariants of a successful result over the cloud indices `expected_vertices`. */
+void
+expectClosedGenusZero (const std::vector<pcl::Vertices>& polygons,
+                       const std::set<pcl::index_t>& expected_vertices)
+{
+  const std::size_t n = expected_vertices.size ();
+  ASSERT_EQ (polygons.size (), 2 * n - 4);
+  std::set<pcl::index_t> used;
+  std::map<std::pair<pcl::index_t, pcl::index_t>, int> directed;
+  for (const auto& polygon : polygons) {
+    ASSERT_EQ (polygon.vertices.size (), 3u);
+    for (int k = 0; k < 3; ++k) {
+      used.insert (polygon.vertices[k]);
+      ++directed[{polygon.vertices[k], polygon.vertices[(k + 1) % 3]}];
+    }
+  }
+  EXPECT_EQ (used, expected_vertices) << "every point a vertex, no other vertex";
+  for (const auto& [edge, count] : directed) {
+    EXPECT_EQ (count, 1) << "edge used twice in the same direction";
+    EXPECT_EQ (directed.count ({edge.second, edge.first}), 1u) << "boundary edge";
+  }
+  // Euler characteristic: V - E + F = 2.
+  EXPECT_EQ (static_cast<long> (n) - static_cast<long> (directed.size () / 2) +
+                 static_cast<long> (polygons.size ()),
+             2);
+}
+
+std::set<pcl::index_t>
+range (std::size_t n)
+{
+  std::set<pcl::index_t> all;
+  for (std::size_t i = 0; i < n; ++i)
+    all.insert (static_cast<pcl::index_t> (i));
+  return all;
+}
+
+} // namespace
+
+TEST (SphericalMeshlessReconstruction, PolygonMeshOfAGeneratedCloud)
+{
+  auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::BumpySphere, 4000);
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  EXPECT_EQ (reconstruction.getNumberOfNeighbours (), 12);
+  EXPECT_EQ (reconstruction.getWeightType (), pcl::meshless::WeightType::MeanValue);
+  reconstruction.setInputCloud (cloud);
+  std::vector<std::string> stages;
+  reconstruction.setProgressCallback ([&] (const pcl::meshless::ProgressReport& r) {
+    stages.push_back (r.stage);
+    return true;
+  });
+  pcl::PolygonMesh mesh;
+  reconstruction.reconstruct (mesh);
+  const auto& report = reconstruction.getReport ();
+  ASSERT_TRUE (report.success) << report.message;
+  EXPECT_EQ (mesh.cloud.width * mesh.cloud.height, cloud->size ());
+  expectClosedGenusZero (mesh.polygons, range (cloud->size ()));
+  EXPECT_TRUE (report.mesh.isSphereLike ());
+  EXPECT_GT (report.mesh.signed_volume, 0.0);
+  EXPECT_EQ (stages.front (), "neighbourhoods");
+  EXPECT_EQ (stages.back (), "check");
+  EXPECT_EQ (report.stage_seconds.size (), stages.size ());
+}
+
+TEST (SphericalMeshlessReconstruction, OtherPointTypesAndTheVerticesOverload)
+{
+  auto normals = generatedCloud<pcl::PointNormal> (pcl::meshless::SyntheticShape::Sphere, 2000);
+  pcl::SphericalMeshlessReconstruction<pcl::PointNormal> a;
+  a.setInputCloud (normals);
+  std::vector<pcl::Vertices> polygons;
+  a.reconstruct (polygons);
+  ASSERT_TRUE (a.getReport ().success) << a.getReport ().message;
+  expectClosedGenusZero (polygons, range (normals->size ()));
+
+  auto colour = generatedCloud<pcl::PointXYZRGBA> (pcl::meshless::SyntheticShape::Ellipsoid, 2000);
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZRGBA> b;
+  b.setInputCloud (colour);
+  b.setSearchMethod (pcl::make_shared<pcl::search::KdTree<pcl::PointXYZRGBA>> ());
+  b.reconstruct (polygons);
+  ASSERT_TRUE (b.getReport ().success) << b.getReport ().message;
+  expectClosedGenusZero (polygons, range (colour->size ()));
+}
+
+TEST (SphericalMeshlessReconstruction, HonoursIndicesNonFinitePointsAndDuplicates)
+{
+  auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 3000);
+  // Every third point is the subset; NaNs and duplicates are mixed in.
+  auto indices = pcl::make_shared<pcl::Indices> ();
+  std::set<pcl::index_t> expected;
+  for (pcl::index_t i = 0; i < 3000; i += 3) {
+    indices->push_back (i);
+    expected.insert (i);
+  }
+  const float nan = std::numeric_limits<float>::quiet_NaN ();
+  for (int j = 0; j < 20; ++j) {
+    cloud->push_back (pcl::PointXYZ (nan, 0.0f, nan));
+    indices->push_back (static_cast<pcl::index_t> (cloud->size () - 1));
+    cloud->push_back ((*cloud)[3 * j]); // a duplicate of a subset point
+    indices->push_back (static_cast<pcl::index_t> (cloud->size () - 1));
+  }
+  indices->push_back (0); // a repeated index is the same point, not a duplicate
+  cloud->is_dense = false;
+
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  reconstruction.setIndices (indices);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  const auto& report = reconstruction.getReport ();
+  ASSERT_TRUE (report.success) << report.message;
+  EXPECT_EQ (report.num_non_finite, 20u);
+  EXPECT_EQ (report.num_duplicates, 20u);
+  EXPECT_EQ (report.num_points, expected.size ());
+  expectClosedGenusZero (polygons, expected);
+}
+
+TEST (SphericalMeshlessReconstruction, BadInputGivesAnEmptyResultAndAReason)
+{
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  pcl::PolygonMesh mesh;
+
+  auto three = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  three->push_back ({0, 0, 0});
+  three->push_back ({1, 0, 0});
+  three->push_back ({0, 1, 0});
+  reconstruction.setInputCloud (three);
+  reconstruction.reconstruct (mesh);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (mesh.polygons.empty ());
+  EXPECT_NE (reconstruction.getReport ().message.find ("four distinct"), std::string::npos);
+
+  auto sphere = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 1000);
+  reconstruction.setInputCloud (sphere);
+  reconstruction.setNumberOfNeighbours (2);
+  reconstruction.reconstruct (mesh);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (mesh.polygons.empty ());
+  EXPECT_EQ (mesh.cloud.data.size (), 0u);
+  EXPECT_NE (reconstruction.getReport ().message.find ("setNumberOfNeighbours"), std::string::npos);
+
+  reconstruction.setNumberOfNeighbours (12);
+  reconstruction.setSearchRadius (-1.0);
+  reconstruction.reconstruct (mesh);
+  EXPECT_NE (reconstruction.getReport ().message.find ("setSearchRadius"), std::string::npos);
+
+  reconstruction.setSearchRadius (1e-6); // nobody has a neighbour that close
+  reconstruction.reconstruct (mesh);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_NE (reconstruction.getReport ().message.find ("no neighbour"), std::string::npos);
+
+  reconstruction.setSearchRadius (0.0);
+  reconstruction.setBaseMesh ({0, 1, 2}, {});
+  std::vector<pcl::Vertices> faces (1);
+  faces[0].vertices = {0, 1, 2};
+  reconstruction.setBaseMesh ({0, 1, 2}, faces);
+  reconstruction.reconstruct (mesh);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_NE (reconstruction.getReport ().message.find ("base mesh"), std::string::npos);
+
+  // Two spheres far apart: the graph is disconnected.
+  auto two = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 1000);
+  for (const auto& p : *generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 1000, 2))
+    two->push_back (pcl::PointXYZ (p.x + 10.0f, p.y, p.z));
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> fresh;
+  fresh.setInputCloud (two);
+  fresh.reconstruct (mesh);
+  EXPECT_FALSE (fresh.getReport ().success);
+  EXPECT_NE (fresh.getReport ().message.find ("disconnected"), std::string::npos);
+}
+
+TEST (SphericalMeshlessReconstruction, AUserBaseMeshIsUsed)
+{
+  auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 3000);
+  // Corners near +-x, +-y, +-z by brute force: an octahedron given by the user.
+  const Eigen::Vector3f axes[] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  pcl::Indices corners;
+  for (const auto& axis : axes) {
+    pcl::index_t best = 0;
+    for (std::size_t i = 0; i < cloud->size (); ++i)
+      if ((*cloud)[i].getVector3fMap ().dot (axis) > (*cloud)[best].getVector3fMap ().dot (axis))
+        best = static_cast<pcl::index_t> (i);
+    corners.push_back (best);
+  }
+  std::vector<pcl::Vertices> faces;
+  for (int x : {0, 1})
+    for (int y : {2, 3})
+      for (int z : {4, 5}) {
+        pcl::Vertices f;
+        // counter-clockwise from outside: (x, y, z) is outward when the octant's
+        // sign product is positive.
+        const bool positive = ((x == 0) == (y == 2)) == (z == 4);
+        f.vertices = positive ? pcl::Indices{x, y, z} : pcl::Indices{x, z, y};
+        faces.push_back (f);
+      }
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  reconstruction.setBaseMesh (corners, faces);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  ASSERT_TRUE (reconstruction.getReport ().success) << reconstruction.getReport ().message;
+  EXPECT_EQ (reconstruction.getReport ().stats.base_faces, 8u);
+  expectClosedGenusZero (polygons, range (cloud->size ()));
+}
+
+class SharedGenusZeroCloud : public ::testing::TestWithParam<std::string>
+{};
+
+TEST_P (SharedGenusZeroCloud, ClosesUpWithEveryInvariant)
+{
+  MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/" + GetParam () + ".pcd");
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  ASSERT_EQ (pcl::io::loadPCDFile (path, *cloud), 0);
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  const auto& report = reconstruction.getReport ();
+  ASSERT_TRUE (report.success) << report.message;
+  expectClosedGenusZero (polygons, range (report.num_points));
+  EXPECT_TRUE (report.mesh.isSphereLike ()) << pcl::meshless::describe (report.mesh);
+  RecordProperty ("self_intersecting_pairs", static_cast<int> (report.mesh.self_intersecting_pairs));
+}
+
+INSTANTIATE_TEST_SUITE_P (SharedData,
+                          SharedGenusZeroCloud,
+                          ::testing::Values ("spot", "bunny_igl", "fandisk_6475", "armadillo_igl"));
