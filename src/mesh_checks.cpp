@@ -118,7 +118,10 @@ orient3dExact (const Vector3& a, const Vector3& b, const Vector3& c, const Vecto
   * counter-clockwise triangle a, b, c points to) when the floating-point evaluation
   * certifies it, else 0: the caller decides whether the exact value is worth it. */
 int
-orient3dIfCertain (const Vector3& a, const Vector3& b, const Vector3& c, const Vector3& d)
+orient3dIfCertain (const Vector3& a,
+                   const Vector3& b,
+                   const Vector3& c,
+                   const Vector3& d)
 {
   const double ux = b.x () - a.x (), uy = b.y () - a.y (), uz = b.z () - a.z ();
   const double vx = c.x () - a.x (), vy = c.y () - a.y (), vz = c.z () - a.z ();
@@ -133,8 +136,9 @@ orient3dIfCertain (const Vector3& a, const Vector3& b, const Vector3& c, const V
   // Each term passes through at most 8 roundings (3 differences, 3 products or
   // subtractions, 2 sums): below 8 units of roundoff; twice that for margin. An
   // underflowed 2x2 product is scaled once more, by |u*|.
-  const double bound = 16.0 * unit_roundoff * permanent +
-                       (std::abs (ux) + std::abs (uy) + std::abs (uz) + 1.0) * underflow_slack;
+  const double bound =
+      16.0 * unit_roundoff * permanent +
+      (std::abs (ux) + std::abs (uy) + std::abs (uz) + 1.0) * underflow_slack;
   if (permanent < filter_limit && std::abs (det) > bound)
     return det > 0.0 ? 1 : -1;
   return 0;
@@ -161,14 +165,16 @@ project (const Vector3& p, int axis)
 /** x in the closed sector at v from ray v-a to ray v-b; turn = orient2d (v, a, b),
   * non-zero, so the sector is narrower than pi and two half-planes describe it. */
 bool
-inSector (const Vector2& v, const Vector2& a, const Vector2& b, int turn, const Vector2& x)
+inSector (
+    const Vector2& v, const Vector2& a, const Vector2& b, int turn, const Vector2& x)
 {
   return orient2d (v, a, x) * turn >= 0 && orient2d (v, x, b) * turn >= 0;
 }
 
 /** x in the closed triangle a, b, c with turn = orient2d (a, b, c) != 0. */
 bool
-inTriangle2d (const Vector2& x, const Vector2& a, const Vector2& b, const Vector2& c, int turn)
+inTriangle2d (
+    const Vector2& x, const Vector2& a, const Vector2& b, const Vector2& c, int turn)
 {
   return orient2d (a, b, x) * turn >= 0 && orient2d (b, c, x) * turn >= 0 &&
          orient2d (c, a, x) * turn >= 0;
@@ -193,13 +199,15 @@ segmentsMeet2d (const Vector2& p, const Vector2& q, const Vector2& r, const Vect
   * outer side. For two non-degenerate triangles this is exactly disjointness of the
   * closed triangles (separating axis theorem, tried on both triangles' edges). */
 bool
-separatedByEdge2d (const std::array<Vector2, 3>& t, int turn, const std::array<Vector2, 3>& others)
+separatedByEdge2d (const std::array<Vector2, 3>& t,
+                   int turn,
+                   const std::array<Vector2, 3>& others)
 {
   for (int i = 0; i < 3; ++i) {
     const Vector2& a = t[i];
     const Vector2& b = t[(i + 1) % 3];
-    if (orient2d (a, b, others[0]) * turn < 0 && orient2d (a, b, others[1]) * turn < 0 &&
-        orient2d (a, b, others[2]) * turn < 0)
+    if (orient2d (a, b, others[0]) * turn < 0 &&
+        orient2d (a, b, others[1]) * turn < 0 && orient2d (a, b, others[2]) * turn < 0)
       return true;
   }
   return false;
@@ -222,7 +230,8 @@ segmentMeetsTriangle (const Vector3& p,
     return false;
   if (op == 0 && oq == 0) {
     const Vector2 pp = project (p, axis), pq = project (q, axis);
-    const Vector2 pa = project (a, axis), pb = project (b, axis), pc = project (c, axis);
+    const Vector2 pa = project (a, axis), pb = project (b, axis),
+                  pc = project (c, axis);
     const int turn = orient2d (pa, pb, pc);
     return inTriangle2d (pp, pa, pb, pc, turn) || inTriangle2d (pq, pa, pb, pc, turn) ||
            segmentsMeet2d (pp, pq, pa, pb) || segmentsMeet2d (pp, pq, pb, pc) ||
@@ -230,7 +239,8 @@ segmentMeetsTriangle (const Vector3& p,
   }
   // The line through p and q crosses the plane at a point of the segment; it passes
   // through the closed triangle iff it does not pass two edges on opposite sides.
-  const int s1 = orient3d (p, q, a, b), s2 = orient3d (p, q, b, c), s3 = orient3d (p, q, c, a);
+  const int s1 = orient3d (p, q, a, b), s2 = orient3d (p, q, b, c),
+            s3 = orient3d (p, q, c, a);
   return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
 }
 
@@ -254,7 +264,8 @@ public:
               const Triangles& triangles,
               const std::vector<std::int8_t>& axis)
     : vertices_ (vertices), triangles_ (triangles), axis_ (axis)
-  {}
+  {
+  }
 
   bool
   intersect (std::size_t f, std::size_t g) const
@@ -275,14 +286,15 @@ public:
       const int i = match[0] >= 0 ? 0 : (match[1] >= 0 ? 1 : 2);
       const int j = match[i];
       // Cyclic rotations keep each face's orientation.
-      return meetAtVertex (point (s[i]), point (s[(i + 1) % 3]), point (s[(i + 2) % 3]), axis_[f],
-                           point (t[(j + 1) % 3]), point (t[(j + 2) % 3]), axis_[g]);
+      return meetAtVertex (point (s[i]), point (s[(i + 1) % 3]), point (s[(i + 2) % 3]),
+                           axis_[f], point (t[(j + 1) % 3]), point (t[(j + 2) % 3]),
+                           axis_[g]);
     }
     if (shared == 2) {
       const int i = match[0] < 0 ? 0 : (match[1] < 0 ? 1 : 2);
       const int j = 3 - match[(i + 1) % 3] - match[(i + 2) % 3];
-      return meetAlongEdge (point (s[(i + 1) % 3]), point (s[(i + 2) % 3]), point (s[i]),
-                            point (t[j]), axis_[f]);
+      return meetAlongEdge (point (s[(i + 1) % 3]), point (s[(i + 2) % 3]),
+                            point (s[i]), point (t[j]), axis_[f]);
     }
     return true; // the same vertex set: the faces coincide
   }
@@ -296,7 +308,11 @@ private:
 
   /** Faces u, w, a and w, u, b sharing the edge u-w. */
   bool
-  meetAlongEdge (const Vector3& u, const Vector3& w, const Vector3& a, const Vector3& b, int axis) const
+  meetAlongEdge (const Vector3& u,
+                 const Vector3& w,
+                 const Vector3& a,
+                 const Vector3& b,
+                 int axis) const
   {
     // On different planes, the faces meet exactly in the line u-w, that is the edge.
     if (orient3dIfCertain (u, w, a, b) != 0)
@@ -328,12 +344,14 @@ private:
 
     // Near v each face fills the sector between its two edges at v, and a face meets
     // the other beyond v iff it does so near v; so in 2D the sectors decide.
-    const Vector2 pv = project (v, axis_s), pa = project (a, axis_s), pb = project (b, axis_s);
+    const Vector2 pv = project (v, axis_s), pa = project (a, axis_s),
+                  pb = project (b, axis_s);
     const Vector2 pc = project (c, axis_s), pd = project (d, axis_s);
     const int turn_s = orient2d (pv, pa, pb);
     const int turn_t = orient2d (pv, pc, pd);
-    if (turn_t != 0 && !inSector (pv, pa, pb, turn_s, pc) && !inSector (pv, pa, pb, turn_s, pd) &&
-        !inSector (pv, pc, pd, turn_t, pa) && !inSector (pv, pc, pd, turn_t, pb))
+    if (turn_t != 0 && !inSector (pv, pa, pb, turn_s, pc) &&
+        !inSector (pv, pa, pb, turn_s, pd) && !inSector (pv, pc, pd, turn_t, pa) &&
+        !inSector (pv, pc, pd, turn_t, pb))
       return false;
 
     const int ec = orient3d (v, a, b, c), ed = orient3d (v, a, b, d);
@@ -391,8 +409,10 @@ private:
     // ends lie on edges, so the faces meet iff an edge of one meets the other.
     for (int i = 0; i < 3; ++i) {
       const int k = (i + 1) % 3;
-      if (segmentMeetsTriangle (*a[i], *a[k], oa[i], oa[k], *b[0], *b[1], *b[2], axis_t) ||
-          segmentMeetsTriangle (*b[i], *b[k], ob[i], ob[k], *a[0], *a[1], *a[2], axis_s))
+      if (segmentMeetsTriangle (*a[i], *a[k], oa[i], oa[k], *b[0], *b[1], *b[2],
+                                axis_t) ||
+          segmentMeetsTriangle (*b[i], *b[k], ob[i], ob[k], *a[0], *a[1], *a[2],
+                                axis_s))
         return true;
     }
     return false;
@@ -470,7 +490,9 @@ public:
   {
     if (boxes_.empty ())
       return;
-    nodes_.reserve (2 * (boxes_.size () / leaf_size + 1));
+    // Median splits leave at least (leaf_size + 1) / 2 boxes per leaf, and a binary
+    // tree has fewer than twice as many nodes as leaves.
+    nodes_.reserve (2 * (boxes_.size () / ((leaf_size + 1) / 2)) + 1);
     build (0, static_cast<std::uint32_t> (boxes_.size ()));
   }
 
@@ -577,8 +599,7 @@ private:
   std::vector<std::uint32_t> parent_;
 };
 
-enum class TriangleKind
-{
+enum class TriangleKind {
   Invalid,       // an index out of range
   RepeatedIndex, // in range, but not three distinct vertices
   Face
@@ -608,7 +629,8 @@ class Topology
 public:
   Topology (const Triangles& triangles, std::size_t num_vertices, MeshReport& report)
     : triangles_ (triangles), n_ (num_vertices), report_ (report)
-  {}
+  {
+  }
 
   void
   run ()
@@ -696,7 +718,8 @@ private:
         for (int j = 0; j < 3; ++j) {
           const auto a = static_cast<std::uint32_t> (tri[j]);
           const auto b = static_cast<std::uint32_t> (tri[(j + 1) % 3]);
-          edges[fill[std::min (a, b)]++] = {std::max (a, b), static_cast<std::uint32_t> (3 * t + j)};
+          edges[fill[std::min (a, b)]++] = {std::max (a, b),
+                                            static_cast<std::uint32_t> (3 * t + j)};
         }
       }
     }
@@ -803,8 +826,7 @@ parallelRanges (std::size_t n, std::size_t grain, int threads, Body&& body)
     const std::size_t begin = static_cast<std::size_t> (k) * grain;
     try {
       body (begin, std::min (n, begin + grain), threadIndex ());
-    }
-    catch (...) {
+    } catch (...) {
 #pragma omp critical(meshless_mesh_checks_failure)
       if (!failure)
         failure = std::current_exception ();
@@ -822,9 +844,8 @@ projectionAxis (const Vector3& a, const Vector3& b, const Vector3& c)
 {
   const Vector3 normal = (b - a).cross (c - a).cwiseAbs ();
   std::array<int, 3> order{0, 1, 2};
-  std::sort (order.begin (), order.end (), [&normal] (int i, int j) {
-    return normal[i] > normal[j];
-  });
+  std::sort (order.begin (), order.end (),
+             [&normal] (int i, int j) { return normal[i] > normal[j]; });
   for (int axis : order)
     if (orient2d (project (a, axis), project (b, axis), project (c, axis)) != 0)
       return axis;
@@ -835,7 +856,8 @@ projectionAxis (const Vector3& a, const Vector3& b, const Vector3& c)
 double
 smallestAngle (const Vector3& a, const Vector3& b, const Vector3& c)
 {
-  const double la = (c - b).squaredNorm (), lb = (a - c).squaredNorm (), lc = (b - a).squaredNorm ();
+  const double la = (c - b).squaredNorm (), lb = (a - c).squaredNorm (),
+               lc = (b - a).squaredNorm ();
   const Vector3* apex = &a;
   const Vector3 *p = &b, *q = &c;
   if (lb < la && lb <= lc) {
@@ -852,6 +874,10 @@ smallestAngle (const Vector3& a, const Vector3& b, const Vector3& c)
   // atan2 stays accurate for tiny and for nearly straight angles, unlike acos.
   return std::atan2 (u.cross (v).norm (), u.dot (v));
 }
+
+/** Cap on MeshCheckOptions::max_listed_intersections: the buffers are allocated up
+  * front, outside the parallel region. */
+constexpr std::size_t max_listed = std::size_t{1} << 16;
 
 /** What one thread found; cache-line aligned so that threads do not share lines. */
 struct alignas (64) ThreadFindings
@@ -875,9 +901,10 @@ public:
             const Triangles& triangles,
             const MeshCheckOptions& options,
             MeshReport& report)
-    : vertices_ (vertices), triangles_ (triangles), options_ (options), report_ (report)
-    , threads_ (threadCount (options))
-  {}
+    : vertices_ (vertices), triangles_ (triangles), options_ (options),
+      report_ (report), threads_ (threadCount (options))
+  {
+  }
 
   void
   run ()
@@ -920,27 +947,31 @@ private:
     constexpr std::size_t block_size = 4096;
     std::vector<BlockSums> blocks ((triangles_.size () + block_size - 1) / block_size);
     const double threshold = 10.0 * pi / 180.0;
-    parallelRanges (triangles_.size (), block_size, threads_, [&] (std::size_t begin, std::size_t end, int) {
-      BlockSums& sums = blocks[begin / block_size];
-      for (std::size_t t = begin; t < end; ++t) {
-        const Triangle& tri = triangles_[t];
-        if (classify (tri, n) != TriangleKind::Face || !finite[tri[0]] || !finite[tri[1]] ||
-            !finite[tri[2]])
-          continue;
-        const Vector3& p = vertices_[tri[0]];
-        const Vector3& q = vertices_[tri[1]];
-        const Vector3& r = vertices_[tri[2]];
-        axis_[t] = static_cast<std::int8_t> (projectionAxis (p, q, r));
-        if (axis_[t] < 0)
-          ++sums.collinear;
-        // Relative to the centroid, the terms of a closed mesh cancel less.
-        sums.volume += (p - centroid).dot ((q - centroid).cross (r - centroid)) / 6.0;
-        const double angle = smallestAngle (p, q, r);
-        sums.min_angle += angle;
-        sums.below_10 += angle < threshold ? 1 : 0;
-        ++sums.faces;
-      }
-    });
+    parallelRanges (triangles_.size (), block_size, threads_,
+                    [&] (std::size_t begin, std::size_t end, int) {
+                      BlockSums& sums = blocks[begin / block_size];
+                      for (std::size_t t = begin; t < end; ++t) {
+                        const Triangle& tri = triangles_[t];
+                        if (classify (tri, n) != TriangleKind::Face ||
+                            !finite[tri[0]] || !finite[tri[1]] || !finite[tri[2]])
+                          continue;
+                        const Vector3& p = vertices_[tri[0]];
+                        const Vector3& q = vertices_[tri[1]];
+                        const Vector3& r = vertices_[tri[2]];
+                        axis_[t] = static_cast<std::int8_t> (projectionAxis (p, q, r));
+                        if (axis_[t] < 0)
+                          ++sums.collinear;
+                        // Measured from the centroid the terms stay small, so a mesh
+                        // far from the origin loses no precision to cancellation.
+                        sums.volume +=
+                            (p - centroid).dot ((q - centroid).cross (r - centroid)) /
+                            6.0;
+                        const double angle = smallestAngle (p, q, r);
+                        sums.min_angle += angle;
+                        sums.below_10 += angle < threshold ? 1 : 0;
+                        ++sums.faces;
+                      }
+                    });
     BlockSums total;
     for (const BlockSums& sums : blocks) {
       total.volume += sums.volume;
@@ -952,7 +983,8 @@ private:
     report_.degenerate_triangles += total.collinear;
     report_.signed_volume = total.volume;
     if (total.faces > 0) {
-      report_.mean_min_angle_deg = total.min_angle / static_cast<double> (total.faces) * 180.0 / pi;
+      report_.mean_min_angle_deg =
+          total.min_angle / static_cast<double> (total.faces) * 180.0 / pi;
       report_.share_min_angle_below_10 =
           static_cast<double> (total.below_10) / static_cast<double> (total.faces);
     }
@@ -972,34 +1004,38 @@ private:
     // Each thread counts on its own and keeps its smallest pairs, trimmed whenever the
     // buffer fills, so the union holds the overall smallest ones; the buffers never
     // reallocate.
-    const std::size_t keep = std::min<std::size_t> (options_.max_listed_intersections, 1u << 16);
+    const std::size_t keep = std::min (options_.max_listed_intersections, max_listed);
     std::vector<ThreadFindings> findings (static_cast<std::size_t> (threads_));
     for (ThreadFindings& own : findings)
       own.listed.reserve (keep > 0 ? 4 * keep : 0);
 
-    parallelRanges (order.size (), 1024, threads_, [&] (std::size_t begin, std::size_t end, int thread) {
-      ThreadFindings& own = findings[static_cast<std::size_t> (thread)];
-      for (std::size_t p = begin; p < end; ++p)
-        tree.forEachLaterOverlap (static_cast<std::uint32_t> (p), [&] (std::uint32_t q) {
-          const std::size_t f = order[p], g = order[q];
-          if (!tester.intersect (f, g))
-            return;
-          ++own.count;
-          if (keep == 0)
-            return;
-          own.listed.emplace_back (std::min (f, g), std::max (f, g));
-          if (own.listed.size () == own.listed.capacity ()) {
-            std::nth_element (own.listed.begin (), own.listed.begin () + keep, own.listed.end ());
-            own.listed.resize (keep);
-          }
+    parallelRanges (
+        order.size (), 1024, threads_,
+        [&] (std::size_t begin, std::size_t end, int thread) {
+          ThreadFindings& own = findings[static_cast<std::size_t> (thread)];
+          for (std::size_t p = begin; p < end; ++p)
+            tree.forEachLaterOverlap (
+                static_cast<std::uint32_t> (p), [&] (std::uint32_t q) {
+                  const std::size_t f = order[p], g = order[q];
+                  if (!tester.intersect (f, g))
+                    return;
+                  ++own.count;
+                  if (keep == 0)
+                    return;
+                  own.listed.emplace_back (std::min (f, g), std::max (f, g));
+                  if (own.listed.size () == own.listed.capacity ()) {
+                    std::nth_element (own.listed.begin (), own.listed.begin () + keep,
+                                      own.listed.end ());
+                    own.listed.resize (keep);
+                  }
+                });
         });
-    });
 
     report_.self_intersections_checked = true;
     for (const ThreadFindings& own : findings) {
       report_.self_intersecting_pairs += own.count;
-      report_.intersecting_pairs.insert (report_.intersecting_pairs.end (), own.listed.begin (),
-                                         own.listed.end ());
+      report_.intersecting_pairs.insert (report_.intersecting_pairs.end (),
+                                         own.listed.begin (), own.listed.end ());
     }
     std::sort (report_.intersecting_pairs.begin (), report_.intersecting_pairs.end ());
     if (report_.intersecting_pairs.size () > keep)
@@ -1012,15 +1048,19 @@ private:
   sortedBoxes (std::vector<std::uint32_t>& order) const
   {
     std::vector<Box> boxes (order.size ());
-    Box bounds{{{std::numeric_limits<float>::infinity (), std::numeric_limits<float>::infinity (),
+    Box bounds{{{std::numeric_limits<float>::infinity (),
+                 std::numeric_limits<float>::infinity (),
                  std::numeric_limits<float>::infinity ()}},
-               {{-std::numeric_limits<float>::infinity (), -std::numeric_limits<float>::infinity (),
+               {{-std::numeric_limits<float>::infinity (),
+                 -std::numeric_limits<float>::infinity (),
                  -std::numeric_limits<float>::infinity ()}}};
     for (std::size_t i = 0; i < order.size (); ++i) {
       const Triangle& tri = triangles_[order[i]];
       for (int k = 0; k < 3; ++k) {
-        const double lo = std::min ({vertices_[tri[0]][k], vertices_[tri[1]][k], vertices_[tri[2]][k]});
-        const double hi = std::max ({vertices_[tri[0]][k], vertices_[tri[1]][k], vertices_[tri[2]][k]});
+        const double lo = std::min (
+            {vertices_[tri[0]][k], vertices_[tri[1]][k], vertices_[tri[2]][k]});
+        const double hi = std::max (
+            {vertices_[tri[0]][k], vertices_[tri[1]][k], vertices_[tri[2]][k]});
         boxes[i].lo[k] = toFloat (lo);
         boxes[i].hi[k] = toFloat (hi);
       }
@@ -1034,7 +1074,8 @@ private:
       std::uint64_t code = 0;
       for (int k = 0; k < 3; ++k) {
         const double extent = static_cast<double> (bounds.hi[k]) - bounds.lo[k];
-        const double centre = 0.5 * (static_cast<double> (boxes[i].lo[k]) + boxes[i].hi[k]);
+        const double centre =
+            0.5 * (static_cast<double> (boxes[i].lo[k]) + boxes[i].hi[k]);
         double cell = extent > 0.0 ? (centre - bounds.lo[k]) / extent * cells : 0.0;
         cell = cell >= 0.0 ? std::min (cell, cells) : 0.0; // also maps NaN to 0
         code |= spreadBits (static_cast<std::uint64_t> (cell)) << k;
@@ -1104,7 +1145,9 @@ MeshReport::isDiscLike () const
 }
 
 MeshReport
-checkMesh (const Points3& vertices, const Triangles& triangles, const MeshCheckOptions& options)
+checkMesh (const Points3& vertices,
+           const Triangles& triangles,
+           const MeshCheckOptions& options)
 {
   MeshReport report;
   report.num_vertices = vertices.size ();
@@ -1119,8 +1162,7 @@ checkMesh (const Points3& vertices, const Triangles& triangles, const MeshCheckO
     Topology (triangles, vertices.size (), report).run ();
     Geometry (vertices, triangles, options, report).run ();
     report.success = true;
-  }
-  catch (const std::exception& e) {
+  } catch (const std::exception& e) {
     MeshReport failed;
     failed.num_vertices = vertices.size ();
     failed.num_triangles = triangles.size ();
@@ -1136,8 +1178,8 @@ describe (const MeshReport& r)
   std::ostringstream out;
   if (!r.success) {
     out << "Mesh of " << counted (r.num_vertices, "vertex", "vertices") << " and "
-        << counted (r.num_triangles, "triangle", "triangles") << " not checked: " << r.message
-        << ".";
+        << counted (r.num_triangles, "triangle", "triangles")
+        << " not checked: " << r.message << ".";
     return out.str ();
   }
   if (r.num_triangles == 0)
@@ -1149,11 +1191,13 @@ describe (const MeshReport& r)
   else if (r.isClosedManifold ())
     out << "Closed manifold mesh";
   else if (r.isManifold ())
-    out << (r.isOriented () ? "Manifold mesh with boundary" : "Inconsistently oriented manifold mesh");
+    out << (r.isOriented () ? "Manifold mesh with boundary"
+                            : "Inconsistently oriented manifold mesh");
   else
     out << "Non-manifold mesh";
-  out << ": " << counted (r.num_vertices, "vertex", "vertices") << " (" << r.unused_vertices
-      << " unused), " << counted (r.num_triangles, "triangle", "triangles") << ", "
+  out << ": " << counted (r.num_vertices, "vertex", "vertices") << " ("
+      << r.unused_vertices << " unused), "
+      << counted (r.num_triangles, "triangle", "triangles") << ", "
       << counted (r.num_edges, "edge", "edges") << ", "
       << counted (r.components, "component", "components") << ", Euler characteristic "
       << r.euler_characteristic;
@@ -1162,25 +1206,30 @@ describe (const MeshReport& r)
   out << ".";
 
   std::vector<std::string> defects;
-  const auto note = [&defects] (std::size_t n, const char* singular, const char* plural) {
+  const auto note = [&defects] (std::size_t n, const char* singular,
+                                const char* plural) {
     if (n > 0)
       defects.push_back (counted (n, singular, plural));
   };
-  note (r.invalid_triangles, "triangle with an index out of range", "triangles with an index out of range");
-  note (r.non_finite_vertices, "vertex with non-finite coordinates", "vertices with non-finite coordinates");
+  note (r.invalid_triangles, "triangle with an index out of range",
+        "triangles with an index out of range");
+  note (r.non_finite_vertices, "vertex with non-finite coordinates",
+        "vertices with non-finite coordinates");
   if (r.boundary_edges > 0)
-    defects.push_back (counted (r.boundary_edges, "boundary edge", "boundary edges") + " in " +
-                       counted (r.boundary_loops, "loop", "loops"));
+    defects.push_back (counted (r.boundary_edges, "boundary edge", "boundary edges") +
+                       " in " + counted (r.boundary_loops, "loop", "loops"));
   note (r.non_manifold_edges, "non-manifold edge", "non-manifold edges");
   note (r.non_manifold_vertices, "non-manifold vertex", "non-manifold vertices");
-  note (r.inconsistent_edges, "inconsistently oriented edge", "inconsistently oriented edges");
+  note (r.inconsistent_edges, "inconsistently oriented edge",
+        "inconsistently oriented edges");
   note (r.degenerate_triangles, "degenerate triangle", "degenerate triangles");
   note (r.duplicate_triangles, "duplicate triangle", "duplicate triangles");
   if (r.self_intersecting_pairs > 0) {
-    std::string text = counted (r.self_intersecting_pairs, "self-intersecting pair", "self-intersecting pairs");
+    std::string text = counted (r.self_intersecting_pairs, "self-intersecting pair",
+                                "self-intersecting pairs");
     if (!r.intersecting_pairs.empty ())
-      text += " (e.g. triangles " + std::to_string (r.intersecting_pairs[0].first) + " and " +
-              std::to_string (r.intersecting_pairs[0].second) + ")";
+      text += " (e.g. triangles " + std::to_string (r.intersecting_pairs[0].first) +
+              " and " + std::to_string (r.intersecting_pairs[0].second) + ")";
     defects.push_back (text);
   }
   if (!defects.empty ()) {
@@ -1196,8 +1245,9 @@ describe (const MeshReport& r)
   out << std::setprecision (4);
   if (r.isClosedManifold ())
     out << " Signed volume " << r.signed_volume << ".";
-  out << " Smallest angle: mean " << std::fixed << std::setprecision (1) << r.mean_min_angle_deg
-      << " deg, " << 100.0 * r.share_min_angle_below_10 << "% below 10 deg.";
+  out << " Smallest angle: mean " << std::fixed << std::setprecision (1)
+      << r.mean_min_angle_deg << " deg, " << 100.0 * r.share_min_angle_below_10
+      << "% below 10 deg.";
   return out.str ();
 }
 

@@ -24,7 +24,7 @@ struct MeshCheckOptions
   bool check_self_intersections = true;
   /** \brief Default: 8. How many intersecting pairs to list in
     * MeshReport::intersecting_pairs (the smallest ones, so the list does not depend
-    * on the number of threads); 0 lists none. */
+    * on the number of threads); 0 lists none, at most 65536 are listed. */
   std::size_t max_listed_intersections = 8;
   /** \brief Default: 0, meaning OpenMP's default. Threads for the per-triangle
     * work; the report is the same for every thread count. */
@@ -43,8 +43,9 @@ struct MeshCheckOptions
   *   faces whose three vertices have finite coordinates.
   *
   * `success` (from StageStatus) says whether the check ran to completion (it fails
-  * only when memory runs out or the mesh has more than 2^32 / 3 triangles), not
-  * whether the mesh is good: that is what the counts and the predicates tell.
+  * only when memory runs out or the mesh has 2^32 vertices or 2^32 / 3 triangles or
+  * more), not whether the mesh is good: that is what the counts and the predicates
+  * tell.
   */
 struct MeshReport : StageStatus
 {
@@ -104,6 +105,8 @@ struct MeshReport : StageStatus
     * coordinates, so a vertex lying exactly on another face, distinct vertices at
     * the same position, or coplanar faces folded onto each other across their
     * shared edge all count, while a gap of one unit in the last place does not.
+    * The orientation predicates behind this are exact: a floating-point evaluation
+    * trusted only under a conservative error bound, big-integer arithmetic otherwise.
     * Exactly degenerate faces are not tested (degenerate_triangles reports them).
     * Zero if not checked. */
   std::size_t self_intersecting_pairs = 0;
@@ -113,8 +116,9 @@ struct MeshReport : StageStatus
     * MeshCheckOptions::max_listed_intersections of them. */
   std::vector<std::pair<std::size_t, std::size_t>> intersecting_pairs;
   /** \brief Sum of the signed volumes of the tetrahedra from the centroid of the
-    * used vertices to each face. Meaningful for closed meshes, where it is the
-    * enclosed volume, positive if the faces are counter-clockwise seen from outside.
+    * used vertices (those with finite coordinates) to each face. Meaningful for closed
+    * meshes, where it is the enclosed volume, positive if the faces are
+    * counter-clockwise seen from outside.
     */
   double signed_volume = 0.0;
   /** \brief Mean over the faces of the smallest interior angle, in degrees. */
