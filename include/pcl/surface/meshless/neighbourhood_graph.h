@@ -108,42 +108,60 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
     local_of[c] = static_cast<pcl::index_t> (i);
   }
 
+  // Queries run in parallel, as in pcl::NormalEstimationOMP (a built search
+  // structure answers concurrent const queries); each point's row is filtered
+  // into its own slot, then the rows are packed in order, so the result does not
+  // depend on the number of threads.
   const std::size_t n = cloud_indices.size ();
+  std::vector<pcl::Indices> rows (n);
+  std::size_t num_empty = 0;
+#pragma omp parallel reduction(+ : num_empty)
+  {
+    pcl::Indices found;
+    std::vector<float> sqr_distances;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::ptrdiff_t si = 0; si < static_cast<std::ptrdiff_t> (n); ++si) {
+      const auto i = static_cast<std::size_t> (si);
+      const auto query = cloud_indices[i];
+      if (use_radius) {
+        // Ask for one more than the cap: the query point itself is among the results.
+        const unsigned int cap = options.max_neighbours > 0
+                                     ? static_cast<unsigned int> (options.max_neighbours + 1)
+                                     : 0u;
+        search.radiusSearch ((*cloud)[query], options.radius, found, sqr_distances, cap);
+      }
+      else {
+        search.nearestKSearch ((*cloud)[query], options.k + 1, found, sqr_distances);
+      }
+      // PCL returns the results sorted by distance (sorted_results_ is true for the
+      // searches PCL builds). The query itself and exact duplicates come first.
+      const std::size_t limit =
+          use_radius ? (options.max_neighbours > 0 ? static_cast<std::size_t> (options.max_neighbours)
+                                                   : found.size ())
+                     : static_cast<std::size_t> (options.k);
+      pcl::Indices& row = rows[i];
+      for (std::size_t j = 0; j < found.size () && row.size () < limit; ++j) {
+        const auto w = local_of[found[j]];
+        if (w < 0 || static_cast<std::size_t> (w) == i)
+          continue;
+        if (use_radius && !(sqr_distances[j] < options.radius * options.radius))
+          continue;
+        row.push_back (w);
+      }
+      if (row.empty ())
+        ++num_empty;
+    }
+  }
+  result.num_empty = num_empty;
+
   CsrGraph& g = result.neighbours;
   g.offsets.assign (n + 1, 0);
-  g.adjacency.reserve (n * static_cast<std::size_t> (use_radius ? 16 : options.k));
-
-  pcl::Indices found;
-  std::vector<float> sqr_distances;
+  for (std::size_t i = 0; i < n; ++i)
+    g.offsets[i + 1] = g.offsets[i] + static_cast<pcl::index_t> (rows[i].size ());
+  g.adjacency.resize (static_cast<std::size_t> (g.offsets[n]));
   for (std::size_t i = 0; i < n; ++i) {
-    const auto query = cloud_indices[i];
-    if (use_radius) {
-      // Ask for one more than the cap: the query point itself is among the results.
-      const unsigned int cap =
-          options.max_neighbours > 0 ? static_cast<unsigned int> (options.max_neighbours + 1) : 0u;
-      search.radiusSearch ((*cloud)[query], options.radius, found, sqr_distances, cap);
-    }
-    else {
-      search.nearestKSearch ((*cloud)[query], options.k + 1, found, sqr_distances);
-    }
-    // PCL returns the results sorted by distance (sorted_results_ is true for the
-    // searches PCL builds). The query itself and exact duplicates come first.
-    int kept = 0;
-    const int limit = use_radius ? (options.max_neighbours > 0 ? options.max_neighbours
-                                                               : static_cast<int> (found.size ()))
-                                 : options.k;
-    for (std::size_t j = 0; j < found.size () && kept < limit; ++j) {
-      const auto w = local_of[found[j]];
-      if (w < 0 || static_cast<std::size_t> (w) == i)
-        continue;
-      if (use_radius && !(sqr_distances[j] < options.radius * options.radius))
-        continue;
-      g.adjacency.push_back (w);
-      ++kept;
-    }
-    if (kept == 0)
-      ++result.num_empty;
-    g.offsets[i + 1] = static_cast<pcl::index_t> (g.adjacency.size ());
+    std::copy (rows[i].begin (), rows[i].end (), g.adjacency.begin () + g.offsets[i]);
+    pcl::Indices ().swap (rows[i]);
   }
   result.success = true;
   return result;
