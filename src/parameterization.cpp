@@ -2,6 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include <pcl/surface/meshless/ordered_neighbourhoods.h>
 #include <pcl/surface/meshless/parameterization.h>
 
 #include <Eigen/IterativeLinearSolvers>
@@ -99,7 +100,8 @@ MeshlessSystem
 buildMeshlessSystem (const Weights& weights,
                      const std::vector<pcl::index_t>& patch_points,
                      const std::vector<pcl::index_t>& boundary_loop,
-                     const Points2& boundary_uv)
+                     const Points2& boundary_uv,
+                     const PatchRingContext* rings)
 {
   MeshlessSystem system;
   const std::size_t m = patch_points.size ();
@@ -142,32 +144,70 @@ buildMeshlessSystem (const Weights& weights,
   entries.reserve (unknowns * 8);
   system.rhs = Eigen::MatrixX2d::Zero (static_cast<Eigen::Index> (unknowns), 2);
   std::vector<std::vector<pcl::index_t>> depends_on_me (m); // reverse edges, for reachability
+  std::vector<pcl::index_t> row_points, inside_candidates;
+  std::vector<double> row_weights;
+  Points2 local_ring;
+  std::vector<int> ring;
   for (std::size_t row = 0; row < unknowns; ++row) {
     const pcl::index_t local = system.interior[row];
     const pcl::index_t v = patch_points[local];
+    // This point's weights, restricted to the patch.
+    row_points.clear ();
+    row_weights.clear ();
+    bool reaches_out = false;
+    for (auto k = weights.neighbours.offsets[v]; k < weights.neighbours.offsets[v + 1]; ++k) {
+      const pcl::index_t w = weights.neighbours.adjacency[k];
+      if (local_of.count (w)) {
+        row_points.push_back (w);
+        row_weights.push_back (weights.values[k]);
+      }
+      else
+        reaches_out = true;
+    }
+    if (reaches_out && rings && rings->points && rings->candidates && rings->normals) {
+      // The point's own ring among its candidates inside the patch.
+      inside_candidates.clear ();
+      for (const pcl::index_t* w = rings->candidates->begin (v); w != rings->candidates->end (v); ++w)
+        if (local_of.count (*w))
+          inside_candidates.push_back (*w);
+      localCoordinates (*rings->points, v, inside_candidates.data (),
+                        inside_candidates.data () + inside_candidates.size (),
+                        (*rings->normals)[v].cast<double> (), rings->weights.plane, local_ring);
+      delaunayRing (local_ring, ring);
+      Points2 ordered_ring;
+      for (int r : ring)
+        ordered_ring.push_back (local_ring[r]);
+      std::vector<double> lambda;
+      const bool mean_value = rings->weights.type == WeightType::MeanValue;
+      if ((mean_value || rings->weights.type == WeightType::ShapePreserving) &&
+          (mean_value ? meanValueWeights (ordered_ring, lambda)
+                      : shapePreservingWeights (ordered_ring, lambda))) {
+        row_points.clear ();
+        for (int r : ring)
+          row_points.push_back (inside_candidates[r]);
+        row_weights = std::move (lambda);
+        ++system.num_rerung;
+      }
+    }
     double inside = 0.0;
-    for (auto k = weights.neighbours.offsets[v]; k < weights.neighbours.offsets[v + 1]; ++k)
-      if (local_of.count (weights.neighbours.adjacency[k]))
-        inside += weights.values[k];
+    for (double lambda : row_weights)
+      inside += lambda;
     if (!(inside > 0.0)) {
       system.message = "an interior point of the patch has no neighbour inside the patch "
                        "(increase the number of neighbours k or the radius)";
       return system;
     }
     entries.emplace_back (row, row, 1.0);
-    for (auto k = weights.neighbours.offsets[v]; k < weights.neighbours.offsets[v + 1]; ++k) {
-      const auto it = local_of.find (weights.neighbours.adjacency[k]);
-      if (it == local_of.end ())
+    for (std::size_t j = 0; j < row_points.size (); ++j) {
+      const double lambda = row_weights[j] / inside;
+      const pcl::index_t w = local_of.at (row_points[j]);
+      if (lambda == 0.0 || w == local)
         continue;
-      const double lambda = weights.values[k] / inside;
-      const pcl::index_t j = it->second;
-      if (lambda == 0.0 || j == local)
-        continue;
-      depends_on_me[j].push_back (local);
-      if (boundary_slot[j] >= 0)
-        system.rhs.row (row) += lambda * boundary_uv[boundary_slot[j]].transpose ();
+      depends_on_me[w].push_back (local);
+      if (boundary_slot[w] >= 0)
+        system.rhs.row (row) += lambda * boundary_uv[boundary_slot[w]].transpose ();
       else
-        entries.emplace_back (row, system.unknown_of[j], -lambda);
+        entries.emplace_back (row, system.unknown_of[w], -lambda);
     }
   }
 

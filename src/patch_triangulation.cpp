@@ -15,7 +15,8 @@ PatchTriangulation
 triangulatePatch (const Points3& points,
                   const Weights& weights,
                   const Patch& patch,
-                  const SolveOptions& options)
+                  const SolveOptions& options,
+                  const PatchRingContext* rings)
 {
   PatchTriangulation result;
   const std::size_t loop_size = patch.loop.size ();
@@ -28,7 +29,7 @@ triangulatePatch (const Points3& points,
 
   const Points2 boundary_uv = circleBoundary (points, patch.loop);
   const MeshlessSystem system =
-      buildMeshlessSystem (weights, patch.points, patch.loop, boundary_uv);
+      buildMeshlessSystem (weights, patch.points, patch.loop, boundary_uv, rings);
   if (!system.success) {
     result.message = system.message;
     return result;

@@ -48,10 +48,31 @@ struct MeshlessSystem : StageStatus
   Eigen::SparseMatrix<double, Eigen::RowMajor> matrix;
   /** \brief Two right-hand sides (u and v), one row per interior point. */
   Eigen::MatrixX2d rhs;
+  /** \brief Interior points whose ring was recomputed inside the patch. */
+  std::size_t num_rerung = 0;
   /** \brief Patch point position (into patch_points) of each unknown. */
   std::vector<pcl::index_t> interior;
   /** \brief Per patch point: its unknown's row, or -1 for boundary points. */
   std::vector<pcl::index_t> unknown_of;
+};
+
+/** \brief What a patch needs to give its points next to a cut their own rings.
+  *
+  * A point next to a path has ring neighbours on the far side, in another patch.
+  * Dropping them and renormalising the rest biases the point away from the path
+  * (its weights lose linear precision), and the triangles along the seam come out
+  * tall and slanted on both sides, where they fold into each other. With this
+  * context such a point's Delaunay ring and weights are recomputed among its
+  * candidates inside the patch (the path points included), as if the patch were
+  * the whole cloud. */
+struct PatchRingContext
+{
+  const Points3* points = nullptr;
+  /** \brief Candidate neighbours of every point (the graph G). */
+  const CsrGraph* candidates = nullptr;
+  /** \brief Oriented normals the rings are computed around. */
+  const std::vector<Eigen::Vector3f>* normals = nullptr;
+  WeightOptions weights;
 };
 
 /** \brief Build the system of one patch.
@@ -60,6 +81,9 @@ struct MeshlessSystem : StageStatus
   *            boundary loop's points must be among them
   * \param[in] boundary_loop the boundary in cyclic order (global indices)
   * \param[in] boundary_uv parameter position of each boundary loop point
+  * \param[in] rings optional: recompute rings and weights inside the patch for
+  *            points whose weights reach outside it (see PatchRingContext);
+  *            without it, their weights are restricted and renormalised
   * \return fails if an interior point has no neighbour inside the patch, or no
   *         directed path to the boundary (the system would be singular)
   */
@@ -67,7 +91,8 @@ MeshlessSystem
 buildMeshlessSystem (const Weights& weights,
                      const std::vector<pcl::index_t>& patch_points,
                      const std::vector<pcl::index_t>& boundary_loop,
-                     const Points2& boundary_uv);
+                     const Points2& boundary_uv,
+                     const PatchRingContext* rings = nullptr);
 
 enum class SparseSolver
 {

@@ -28,6 +28,9 @@ struct PatchTriangulation : StageStatus
 
 /** \brief Parameterize a patch with its loop on the unit circle (chord length),
   * triangulate the parameter points (exact Delaunay), map the triangles back.
+  * \param[in] rings optional context to recompute the rings of points next to the
+  *            loop inside the patch (see PatchRingContext); used for patches cut
+  *            out of a larger surface
   * \return fails (with a message) if the system is singular, parameter points
   *         coincide, or the convex hull of the parameter points is not exactly
   *         the loop (an interior point landed on the boundary), so that a
@@ -37,7 +40,8 @@ PatchTriangulation
 triangulatePatch (const Points3& points,
                   const Weights& weights,
                   const Patch& patch,
-                  const SolveOptions& options = {});
+                  const SolveOptions& options = {},
+                  const PatchRingContext* rings = nullptr);
 
 } // namespace meshless
 } // namespace pcl
