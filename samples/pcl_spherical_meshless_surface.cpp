@@ -42,6 +42,7 @@ usage (const char* program)
       "  -radius R            ball neighbourhood of radius R instead of k nearest\n"
       "  -weights W           uniform|distance|shape|meanvalue (default meanvalue)\n"
       "  -topology T          sphere (closed, default) or disc (open surface)\n"
+      "  -optimize 0|1        edge-swap optimization (default 1)\n"
       "  -base B              tetrahedron|octahedron|icosahedron (default tetrahedron)\n"
       "  -threads N           worker threads (default: all cores)\n",
       program, program);
@@ -194,6 +195,12 @@ main (int argc, char** argv)
         else
           return fail ("unknown weight type '" + w + "' (uniform|distance|shape|meanvalue)");
       }
+      else if (arg == "-optimize") {
+        const std::string o = value ();
+        if (o != "0" && o != "1")
+          return fail ("-optimize takes 0 or 1");
+        reconstruction.setOptimize (o == "1");
+      }
       else if (arg == "-topology") {
         const std::string t = value ();
         if (t == "sphere")
@@ -281,6 +288,9 @@ main (int argc, char** argv)
   else
     std::printf ("mesh: %zu triangles through %zu points, %zu hole(s) kept open, in %.2f s\n",
                  mesh.polygons.size (), report.num_points, report.holes, seconds);
+  if (reconstruction.getOptimize ())
+    std::printf ("optimization: %zu swaps, cost %.6g -> %.6g\n", report.optimization.swaps,
+                 report.optimization.cost_before, report.optimization.cost_after);
   std::printf ("check: %s\n", pcl::meshless::describe (report.mesh).c_str ());
   if (report.num_duplicates > 0 || report.num_non_finite > 0)
     std::printf ("input: %zu duplicate point(s) merged, %zu non-finite point(s) skipped\n",

@@ -175,6 +175,19 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     triangles = std::move (result.triangles);
   }
 
+  if (optimize_) {
+    const auto optimize_start = std::chrono::steady_clock::now ();
+    report_.optimization = meshless::optimizeBySwaps (points, triangles, swap_options_);
+    if (!report_.optimization.success)
+      return fail ("the edge-swap optimization failed: " + report_.optimization.message +
+                   " (setOptimize (false) skips it)");
+    if (!record ({"optimize", 0.95,
+                  std::chrono::duration<double> (std::chrono::steady_clock::now () - optimize_start)
+                      .count (),
+                  std::to_string (report_.optimization.swaps) + " swaps"}))
+      return fail ("cancelled by the progress callback");
+  }
+
   // The class's own check of its result before it reports success.
   const auto check_start = std::chrono::steady_clock::now ();
   meshless::MeshCheckOptions check;

@@ -1,0 +1,1251 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/edge_swap.h>
+
+#include <boost/multiprecision/cpp_int.hpp>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <memory>
+#include <new>
+#include <queue>
+#include <tuple>
+#include <utility>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+using boost::multiprecision::cpp_int;
+
+constexpr double pi = 3.14159265358979323846;
+
+// ---------------------------------------------------------------------------
+// Orientation predicates: the floating-point sign when an error bound certifies it,
+// the exact sign (integer arithmetic on the doubles' mantissas) otherwise.
+
+constexpr double unit_roundoff = 0x1p-53;
+/** Absolute allowance for underflowed products. */
+constexpr double underflow_slack = 0x1p-1000;
+/** Above this the filter's sums might overflow; the exact path takes over. */
+constexpr double filter_limit = 1e300;
+
+/** The doubles as integers on one common power-of-two scale (exact: every finite
+  * double is a 53-bit integer times a power of two). Scaling one axis by a positive
+  * factor keeps the sign of an orientation determinant. */
+template <std::size_t N>
+std::array<cpp_int, N>
+toCommonScale (const std::array<double, N>& x)
+{
+  std::array<std::int64_t, N> mantissa;
+  std::array<int, N> exponent;
+  int smallest = std::numeric_limits<int>::max ();
+  for (std::size_t i = 0; i < N; ++i) {
+    int e = 0;
+    const double fraction = std::frexp (x[i], &e); // |fraction| in [0.5, 1) or 0
+    mantissa[i] = static_cast<std::int64_t> (std::ldexp (fraction, 53));
+    exponent[i] = e - 53;
+    if (mantissa[i] != 0)
+      smallest = std::min (smallest, exponent[i]);
+  }
+  std::array<cpp_int, N> result;
+  for (std::size_t i = 0; i < N; ++i)
+    if (mantissa[i] != 0) {
+      result[i] = mantissa[i];
+      result[i] <<= (exponent[i] - smallest);
+    }
+  return result;
+}
+
+/** Sign of det[b - a, c - a]: positive for a counter-clockwise turn. */
+int
+orient2d (const Vec2& a, const Vec2& b, const Vec2& c)
+{
+  const double left = (b.x () - a.x ()) * (c.y () - a.y ());
+  const double right = (b.y () - a.y ()) * (c.x () - a.x ());
+  const double det = left - right;
+  const double permanent = std::abs (left) + std::abs (right);
+  if (permanent < filter_limit &&
+      std::abs (det) > 8.0 * unit_roundoff * permanent + underflow_slack)
+    return det > 0.0 ? 1 : -1;
+  const auto x = toCommonScale<3> ({a.x (), b.x (), c.x ()});
+  const auto y = toCommonScale<3> ({a.y (), b.y (), c.y ()});
+  const cpp_int exact = (x[1] - x[0]) * (y[2] - y[0]) - (y[1] - y[0]) * (x[2] - x[0]);
+  return exact.sign ();
+}
+
+/** Certified sign of det[b - a, c - a, d - a] (positive when d lies on the side the
+  * normal of the counter-clockwise triangle a, b, c points to), or 0 if uncertain. */
+int
+orient3dFiltered (const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  const Vec3 u = b - a, v = c - a, w = d - a;
+  const double p0 = v.y () * w.z (), p1 = v.z () * w.y ();
+  const double p2 = v.z () * w.x (), p3 = v.x () * w.z ();
+  const double p4 = v.x () * w.y (), p5 = v.y () * w.x ();
+  const double det = u.x () * (p0 - p1) + u.y () * (p2 - p3) + u.z () * (p4 - p5);
+  const double permanent = std::abs (u.x ()) * (std::abs (p0) + std::abs (p1)) +
+                           std::abs (u.y ()) * (std::abs (p2) + std::abs (p3)) +
+                           std::abs (u.z ()) * (std::abs (p4) + std::abs (p5));
+  // At most 8 roundings per term; twice that for margin.
+  const double bound = 16.0 * unit_roundoff * permanent + (u.cwiseAbs ().sum () + 1.0) * underflow_slack;
+  if (permanent < filter_limit && std::abs (det) > bound)
+    return det > 0.0 ? 1 : -1;
+  return 0;
+}
+
+int
+orient3d (const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
+{
+  const int sign = orient3dFiltered (a, b, c, d);
+  if (sign != 0)
+    return sign;
+  std::array<std::array<cpp_int, 4>, 3> s;
+  for (int k = 0; k < 3; ++k)
+    s[k] = toCommonScale<4> ({a[k], b[k], c[k], d[k]});
+  const cpp_int ux = s[0][1] - s[0][0], uy = s[1][1] - s[1][0], uz = s[2][1] - s[2][0];
+  const cpp_int vx = s[0][2] - s[0][0], vy = s[1][2] - s[1][0], vz = s[2][2] - s[2][0];
+  const cpp_int wx = s[0][3] - s[0][0], wy = s[1][3] - s[1][0], wz = s[2][3] - s[2][0];
+  const cpp_int det = ux * (vy * wz - vz * wy) + uy * (vz * wx - vx * wz) + uz * (vx * wy - vy * wx);
+  return det.sign ();
+}
+
+// ---------------------------------------------------------------------------
+// Exact intersection of closed triangles, beyond what shared indices entitle them to
+// (the semantics of checkMesh's self_intersecting_pairs).
+
+/** Drops coordinate `axis` keeping cyclic order, so a triangle's turn in the
+  * projection is the sign of its normal's `axis` component. */
+Vec2
+project (const Vec3& p, int axis)
+{
+  return {p[(axis + 1) % 3], p[(axis + 2) % 3]};
+}
+
+/** An axis along which the triangle projects to a non-degenerate one (the dominant
+  * normal component first), or -1 if it is exactly degenerate. */
+int
+projectionAxis (const Vec3& a, const Vec3& b, const Vec3& c)
+{
+  const Vec3 n = (b - a).cross (c - a).cwiseAbs ();
+  int first = 0;
+  n.maxCoeff (&first);
+  for (int i = 0; i < 3; ++i) {
+    const int axis = (first + i) % 3;
+    if (orient2d (project (a, axis), project (b, axis), project (c, axis)) != 0)
+      return axis;
+  }
+  return -1;
+}
+
+/** x in the closed sector at v between rays v-a and v-b, turn = orient2d (v, a, b). */
+bool
+inSector (const Vec2& v, const Vec2& a, const Vec2& b, int turn, const Vec2& x)
+{
+  return orient2d (v, a, x) * turn >= 0 && orient2d (v, x, b) * turn >= 0;
+}
+
+bool
+inTriangle2d (const Vec2& x, const Vec2& a, const Vec2& b, const Vec2& c, int turn)
+{
+  return orient2d (a, b, x) * turn >= 0 && orient2d (b, c, x) * turn >= 0 &&
+         orient2d (c, a, x) * turn >= 0;
+}
+
+/** Closed segments that cross or touch non-collinearly (collinear overlaps are found
+  * through the end points by the callers). */
+bool
+segmentsMeet2d (const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s)
+{
+  const int o1 = orient2d (p, q, r), o2 = orient2d (p, q, s);
+  if (o1 * o2 > 0 || (o1 == 0 && o2 == 0))
+    return false;
+  return orient2d (r, s, p) * orient2d (r, s, q) <= 0;
+}
+
+/** An edge line of t has all of `others` strictly outside: for non-degenerate
+  * triangles exactly the separating-axis criterion in 2D. */
+bool
+separatedByEdge2d (const std::array<Vec2, 3>& t, int turn, const std::array<Vec2, 3>& others)
+{
+  for (int i = 0; i < 3; ++i) {
+    const Vec2& a = t[i];
+    const Vec2& b = t[(i + 1) % 3];
+    if (orient2d (a, b, others[0]) * turn < 0 && orient2d (a, b, others[1]) * turn < 0 &&
+        orient2d (a, b, others[2]) * turn < 0)
+      return true;
+  }
+  return false;
+}
+
+/** Closed segment p-q meets the closed triangle a, b, c (projection axis `axis`); op and
+  * oq are the exact sides of p and q relative to the triangle's plane. */
+bool
+segmentMeetsTriangle (const Vec3& p, const Vec3& q, int op, int oq, const Vec3& a, const Vec3& b,
+                      const Vec3& c, int axis)
+{
+  if (op * oq > 0)
+    return false;
+  if (op == 0 && oq == 0) {
+    const Vec2 pp = project (p, axis), pq = project (q, axis);
+    const Vec2 pa = project (a, axis), pb = project (b, axis), pc = project (c, axis);
+    const int turn = orient2d (pa, pb, pc);
+    return inTriangle2d (pp, pa, pb, pc, turn) || inTriangle2d (pq, pa, pb, pc, turn) ||
+           segmentsMeet2d (pp, pq, pa, pb) || segmentsMeet2d (pp, pq, pb, pc) ||
+           segmentsMeet2d (pp, pq, pc, pa);
+  }
+  // The segment crosses the plane; it hits the closed triangle iff its line does not
+  // pass two edges on opposite sides.
+  const int s1 = orient3d (p, q, a, b), s2 = orient3d (p, q, b, c), s3 = orient3d (p, q, c, a);
+  return (s1 >= 0 && s2 >= 0 && s3 >= 0) || (s1 <= 0 && s2 <= 0 && s3 <= 0);
+}
+
+bool
+strictlySameSign (const std::array<int, 3>& o)
+{
+  return (o[0] > 0 && o[1] > 0 && o[2] > 0) || (o[0] < 0 && o[1] < 0 && o[2] < 0);
+}
+
+/** Faces (u, w, a) and (w, u, b) sharing edge u-w meet beyond it iff they are coplanar
+  * with a and b on the same side of the edge: folded onto each other. */
+bool
+meetAlongEdge (const Vec3& u, const Vec3& w, const Vec3& a, const Vec3& b, int axis)
+{
+  if (orient3dFiltered (u, w, a, b) != 0)
+    return false;
+  const Vec2 pu = project (u, axis), pw = project (w, axis);
+  if (orient2d (pu, pw, project (a, axis)) * orient2d (pu, pw, project (b, axis)) < 0)
+    return false;
+  return orient3d (u, w, a, b) == 0;
+}
+
+/** Faces (v, a, b) and (v, c, d) sharing only vertex v. */
+bool
+meetAtVertex (const Vec3& v, const Vec3& a, const Vec3& b, int axis_s, const Vec3& c,
+              const Vec3& d, int axis_t)
+{
+  const int fc = orient3dFiltered (v, a, b, c), fd = orient3dFiltered (v, a, b, d);
+  if (fc != 0 && fc == fd)
+    return false;
+  const int fa = orient3dFiltered (v, c, d, a), fb = orient3dFiltered (v, c, d, b);
+  if (fa != 0 && fa == fb)
+    return false;
+  // Near v each face fills the sector between its edges at v, and the faces meet
+  // beyond v iff they do so near v: in the projection, the sectors decide.
+  const Vec2 pv = project (v, axis_s), pa = project (a, axis_s), pb = project (b, axis_s);
+  const Vec2 pc = project (c, axis_s), pd = project (d, axis_s);
+  const int turn_s = orient2d (pv, pa, pb), turn_t = orient2d (pv, pc, pd);
+  if (turn_t != 0 && !inSector (pv, pa, pb, turn_s, pc) && !inSector (pv, pa, pb, turn_s, pd) &&
+      !inSector (pv, pc, pd, turn_t, pa) && !inSector (pv, pc, pd, turn_t, pb))
+    return false;
+  const int ec = orient3d (v, a, b, c), ed = orient3d (v, a, b, d);
+  if (ec == 0 && ed == 0)
+    return true; // coplanar with overlapping sectors
+  if (ec * ed > 0)
+    return false;
+  const int ea = orient3d (v, c, d, a), eb = orient3d (v, c, d, b);
+  if (ea * eb > 0)
+    return false;
+  // The common part is a segment from v whose far end lies on an edge opposite v.
+  return segmentMeetsTriangle (a, b, ea, eb, v, c, d, axis_t) ||
+         segmentMeetsTriangle (c, d, ec, ed, v, a, b, axis_s);
+}
+
+/** Faces without a common index. */
+bool
+meetApart (const std::array<const Vec3*, 3>& a, int axis_s, const std::array<const Vec3*, 3>& b,
+           int axis_t)
+{
+  std::array<int, 3> ob, oa;
+  for (int i = 0; i < 3; ++i)
+    ob[i] = orient3dFiltered (*a[0], *a[1], *a[2], *b[i]);
+  if (strictlySameSign (ob))
+    return false;
+  for (int i = 0; i < 3; ++i)
+    oa[i] = orient3dFiltered (*b[0], *b[1], *b[2], *a[i]);
+  if (strictlySameSign (oa))
+    return false;
+  std::array<Vec2, 3> pa, pb;
+  for (int i = 0; i < 3; ++i) {
+    pa[i] = project (*a[i], axis_s);
+    pb[i] = project (*b[i], axis_s);
+  }
+  const int turn_s = orient2d (pa[0], pa[1], pa[2]), turn_t = orient2d (pb[0], pb[1], pb[2]);
+  if (turn_t != 0 && (separatedByEdge2d (pa, turn_s, pb) || separatedByEdge2d (pb, turn_t, pa)))
+    return false;
+  for (int i = 0; i < 3; ++i)
+    ob[i] = orient3d (*a[0], *a[1], *a[2], *b[i]);
+  if (ob[0] == 0 && ob[1] == 0 && ob[2] == 0)
+    return true; // coplanar with overlapping projections
+  if (strictlySameSign (ob))
+    return false;
+  for (int i = 0; i < 3; ++i)
+    oa[i] = orient3d (*b[0], *b[1], *b[2], *a[i]);
+  if (strictlySameSign (oa))
+    return false;
+  // Not coplanar: they meet iff an edge of one meets the other.
+  for (int i = 0; i < 3; ++i) {
+    const int k = (i + 1) % 3;
+    if (segmentMeetsTriangle (*a[i], *a[k], oa[i], oa[k], *b[0], *b[1], *b[2], axis_t) ||
+        segmentMeetsTriangle (*b[i], *b[k], ob[i], ob[k], *a[0], *a[1], *a[2], axis_s))
+      return true;
+  }
+  return false;
+}
+
+/** Whether the non-degenerate faces s and t (projection axes given) intersect in more
+  * than their shared indices allow. */
+bool
+facesIntersect (const Points3& p, const Triangle& s, int axis_s, const Triangle& t, int axis_t)
+{
+  std::array<int, 3> match{-1, -1, -1}; // match[i]: position in t of s[i]
+  int shared = 0;
+  for (int i = 0; i < 3; ++i)
+    for (int j = 0; j < 3; ++j)
+      if (s[i] == t[j]) {
+        match[i] = j;
+        ++shared;
+      }
+  if (shared == 0)
+    return meetApart ({&p[s[0]], &p[s[1]], &p[s[2]]}, axis_s, {&p[t[0]], &p[t[1]], &p[t[2]]}, axis_t);
+  if (shared == 1) {
+    const int i = match[0] >= 0 ? 0 : (match[1] >= 0 ? 1 : 2);
+    const int j = match[i];
+    return meetAtVertex (p[s[i]], p[s[(i + 1) % 3]], p[s[(i + 2) % 3]], axis_s, p[t[(j + 1) % 3]],
+                         p[t[(j + 2) % 3]], axis_t);
+  }
+  if (shared == 2) {
+    const int i = match[0] < 0 ? 0 : (match[1] < 0 ? 1 : 2);
+    const int j = 3 - match[(i + 1) % 3] - match[(i + 2) % 3];
+    return meetAlongEdge (p[s[(i + 1) % 3]], p[s[(i + 2) % 3]], p[s[i]], p[t[j]], axis_s);
+  }
+  return true;
+}
+
+// ---------------------------------------------------------------------------
+// Broad phase for local intersection queries: a hashed uniform grid of triangle
+// bounding boxes that follows the swaps.
+
+struct Box
+{
+  Vec3 lo, hi;
+};
+
+Box
+boxOf (const Points3& p, const Triangle& t)
+{
+  Box b{p[t[0]], p[t[0]]};
+  for (int i = 1; i < 3; ++i) {
+    b.lo = b.lo.cwiseMin (p[t[i]]);
+    b.hi = b.hi.cwiseMax (p[t[i]]);
+  }
+  return b;
+}
+
+bool
+overlap (const Box& a, const Box& b)
+{
+  return (a.lo.array () <= b.hi.array ()).all () && (b.lo.array () <= a.hi.array ()).all ();
+}
+
+/** Triangle slots hashed by the cells of a uniform grid that their bounding boxes
+  * cover; hash collisions only add candidates. */
+class TriangleGrid
+{
+public:
+  TriangleGrid (std::size_t triangles, const Vec3& origin, double cell)
+    : inverse_cell_ (1.0 / cell), origin_ (origin), mark_ (triangles, 0)
+  {
+    std::size_t buckets = 1;
+    while (buckets < triangles)
+      buckets *= 2;
+    buckets_.resize (buckets);
+  }
+
+  void
+  insert (std::int32_t t, const Box& box)
+  {
+    if (cellCount (box) > max_cells)
+      large_.push_back (t);
+    else
+      forCells (box, [&] (std::vector<std::int32_t>& bucket) { bucket.push_back (t); });
+  }
+
+  void
+  remove (std::int32_t t, const Box& box)
+  {
+    const auto erase = [t] (std::vector<std::int32_t>& bucket) {
+      const auto it = std::find (bucket.begin (), bucket.end (), t);
+      if (it != bucket.end ())
+        bucket.erase (it);
+    };
+    if (cellCount (box) > max_cells)
+      erase (large_);
+    else
+      forCells (box, erase);
+  }
+
+  /** Calls visit (t) once for every triangle that may overlap the box: those
+    * registered in its cells and the large ones. */
+  template <typename Visit>
+  void
+  forCandidates (const Box& box, Visit&& visit)
+  {
+    if (++stamp_ == 0) {
+      std::fill (mark_.begin (), mark_.end (), 0);
+      stamp_ = 1;
+    }
+    const auto scan = [&] (const std::vector<std::int32_t>& bucket) {
+      for (const std::int32_t t : bucket)
+        if (mark_[t] != stamp_) {
+          mark_[t] = stamp_;
+          visit (t);
+        }
+    };
+    // A box over more cells than there are buckets is cheaper to answer with all.
+    if (cellCount (box) > static_cast<std::int64_t> (buckets_.size ()))
+      for (const auto& bucket : buckets_)
+        scan (bucket);
+    else
+      forCells (box, scan);
+    scan (large_);
+  }
+
+private:
+  /** Boxes over more cells than this go to a list every query scans (long slivers
+    * across a fold would otherwise fill thousands of cells). */
+  static constexpr std::int64_t max_cells = 1024;
+
+  std::array<std::int64_t, 3>
+  cellOf (const Vec3& x) const
+  {
+    // Clamped, so the conversion is defined and box cell counts fit; the mapping stays
+    // monotone, so boxes that overlap still share a cell.
+    constexpr double limit = 1 << 19;
+    std::array<std::int64_t, 3> cell;
+    for (int k = 0; k < 3; ++k)
+      cell[k] = static_cast<std::int64_t> (std::clamp (std::floor ((x[k] - origin_[k]) * inverse_cell_), -limit, limit));
+    return cell;
+  }
+
+  std::int64_t
+  cellCount (const Box& box) const
+  {
+    const auto lo = cellOf (box.lo), hi = cellOf (box.hi);
+    return (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
+  }
+
+  template <typename Apply>
+  void
+  forCells (const Box& box, Apply&& apply)
+  {
+    const auto lo = cellOf (box.lo), hi = cellOf (box.hi);
+    const std::uint64_t mask = buckets_.size () - 1;
+    for (std::int64_t x = lo[0]; x <= hi[0]; ++x)
+      for (std::int64_t y = lo[1]; y <= hi[1]; ++y)
+        for (std::int64_t z = lo[2]; z <= hi[2]; ++z) {
+          const std::uint64_t h = static_cast<std::uint64_t> (x) * 73856093ull ^
+                                  static_cast<std::uint64_t> (y) * 19349663ull ^
+                                  static_cast<std::uint64_t> (z) * 83492791ull;
+          apply (buckets_[(h ^ (h >> 29)) & mask]);
+        }
+  }
+
+  double inverse_cell_;
+  Vec3 origin_;
+  std::vector<std::vector<std::int32_t>> buckets_;
+  std::vector<std::int32_t> large_;
+  std::vector<std::uint32_t> mark_;
+  std::uint32_t stamp_ = 0;
+};
+
+// ---------------------------------------------------------------------------
+// The optimizer: a half-edge structure over the triangle array, the heap, the passes.
+
+/** Angle between two (unnormalised) vectors; 0 if one vanishes. */
+double
+angleBetween (const Vec3& u, const Vec3& v)
+{
+  return std::atan2 (u.cross (v).norm (), u.dot (v));
+}
+
+/** The link of a vertex v: its neighbours w_0, w_1, ... in counter-clockwise order,
+  * its triangles being (v, w_j, w_j+1); `closed` when the last wraps to the first. */
+struct Link
+{
+  std::vector<std::int32_t> w;
+  bool closed = true;
+};
+
+/** The swap of edge a-b in triangles (a, b, c), (b, a, d) to (a, d, c), (d, b, c). */
+struct Quad
+{
+  std::int32_t h, g;       // half-edges a->b and b->a
+  std::int32_t a, b, c, d; // vertices
+  std::int32_t t0, t1;     // triangles of h and g
+};
+
+class Optimizer
+{
+public:
+  Optimizer (const Points3& points, Triangles& tri, const EdgeSwapOptions& options)
+    : p_ (points), tri_ (tri), options_ (options),
+      cos_fold_ (std::cos (std::clamp (options.max_fold_angle_deg, 0.0, 180.0) * pi / 180.0))
+  {}
+
+  /** Builds the half-edge structure; false with message_ set if the input is not a
+    * manifold, consistently oriented mesh. */
+  bool
+  build ()
+  {
+    const std::size_t nh = 3 * tri_.size ();
+    if (nh >= static_cast<std::size_t> (std::numeric_limits<std::int32_t>::max ())) {
+      message_ = "too many triangles for 32-bit half-edge indices";
+      return false;
+    }
+    std::vector<std::pair<std::uint64_t, std::int32_t>> keyed (nh);
+    for (std::size_t h = 0; h < nh; ++h) {
+      const auto u = static_cast<std::uint64_t> (from (h)), v = static_cast<std::uint64_t> (to (h));
+      keyed[h] = {std::min (u, v) << 32 | std::max (u, v), static_cast<std::int32_t> (h)};
+    }
+    std::sort (keyed.begin (), keyed.end ());
+    opp_.assign (nh, -1);
+    edge_of_.assign (nh, -1);
+    for (std::size_t i = 0; i < nh;) {
+      std::size_t j = i + 1;
+      while (j < nh && keyed[j].first == keyed[i].first)
+        ++j;
+      if (j - i > 2) {
+        message_ = "the mesh has an edge shared by more than two triangles";
+        return false;
+      }
+      const std::int32_t h = keyed[i].second;
+      const auto e = static_cast<std::int32_t> (edge_he_.size ());
+      edge_he_.push_back (h);
+      edge_of_[h] = e;
+      if (j - i == 2) {
+        const std::int32_t g = keyed[i + 1].second;
+        if (from (h) == from (g)) {
+          message_ = "the triangles are not consistently oriented";
+          return false;
+        }
+        opp_[h] = g;
+        opp_[g] = h;
+        edge_of_[g] = e;
+      }
+      i = j;
+    }
+    unit_normal_.resize (tri_.size ());
+    for (std::size_t t = 0; t < tri_.size (); ++t)
+      updateNormal (t);
+    // A vertex is manifold when one walk around it meets all its outgoing half-edges.
+    vert_he_.assign (p_.size (), -1);
+    std::vector<std::int32_t> outgoing (p_.size (), 0);
+    for (std::size_t h = 0; h < nh; ++h) {
+      ++outgoing[from (h)];
+      if (vert_he_[from (h)] < 0)
+        vert_he_[from (h)] = static_cast<std::int32_t> (h);
+    }
+    Link link;
+    for (std::size_t v = 0; v < p_.size (); ++v)
+      if (vert_he_[v] >= 0) {
+        gatherLink (static_cast<std::int32_t> (v), link);
+        const std::size_t fan = link.closed ? link.w.size () : link.w.size () - 1;
+        if (fan != static_cast<std::size_t> (outgoing[v])) {
+          message_ = "the mesh has a non-manifold vertex";
+          return false;
+        }
+      }
+    return true;
+  }
+
+  const std::string&
+  message () const
+  {
+    return message_;
+  }
+
+  double
+  totalCost ()
+  {
+    double sum = 0.0;
+    if (perEdge ()) {
+      for (const std::int32_t h : edge_he_)
+        if (opp_[h] >= 0)
+          sum += edgeWeight (from (h), to (h)) * angleBetween (normal (h / 3), normal (opp_[h] / 3));
+      return sum;
+    }
+    Link link;
+    for (std::size_t v = 0; v < p_.size (); ++v)
+      if (vert_he_[v] >= 0) {
+        gatherLink (static_cast<std::int32_t> (v), link);
+        sum += vertexCost (static_cast<std::int32_t> (v), link);
+      }
+    return sum;
+  }
+
+  /** Sets up the intersection bookkeeping and returns the number of intersecting
+    * pairs. */
+  std::size_t
+  initIntersections ()
+  {
+    double length = 0.0;
+    for (const std::int32_t h : edge_he_)
+      length += (p_[to (h)] - p_[from (h)]).norm ();
+    length = edge_he_.empty () ? 1.0 : length / static_cast<double> (edge_he_.size ());
+    axis_.resize (tri_.size ());
+    box_.resize (tri_.size ());
+    grid_ = std::make_unique<TriangleGrid> (tri_.size (), tri_.empty () ? Vec3::Zero () : p_[tri_[0][0]],
+                                            1.5 * std::max (length, 1e-300));
+    for (std::size_t t = 0; t < tri_.size (); ++t)
+      place (static_cast<std::int32_t> (t));
+    partners_.assign (tri_.size (), 0);
+    std::size_t pairs = 0;
+    for (std::size_t t = 0; t < tri_.size (); ++t) {
+      const auto s = static_cast<std::int32_t> (t);
+      forEachIntersecting (tri_[t], axis_[t], s, -1, [&] (std::int32_t x) {
+        if (x > s) {
+          ++partners_[s];
+          ++partners_[x];
+          ++pairs;
+        }
+      });
+    }
+    intersections_ = pairs;
+    return pairs;
+  }
+
+  std::size_t
+  intersections () const
+  {
+    return intersections_;
+  }
+
+  std::size_t
+  swaps () const
+  {
+    return swaps_;
+  }
+
+  /** Greedy descent: pops the best swap until none lowers the cost. */
+  void
+  descend ()
+  {
+    if (heap_stamp_.empty ()) {
+      heap_stamp_.assign (edge_he_.size (), 0);
+      seen_.assign (edge_he_.size (), 0);
+      if (!perEdge ()) {
+        vertex_cost_.assign (p_.size (), 0.0);
+        Link link;
+        for (std::size_t v = 0; v < p_.size (); ++v)
+          if (vert_he_[v] >= 0) {
+            gatherLink (static_cast<std::int32_t> (v), link);
+            vertex_cost_[v] = vertexCost (static_cast<std::int32_t> (v), link);
+          }
+      }
+      for (std::size_t e = 0; e < edge_he_.size (); ++e)
+        push (static_cast<std::int32_t> (e));
+    }
+    while (!heap_.empty () && !swapLimitReached ()) {
+      const Entry top = heap_.top ();
+      heap_.pop ();
+      if (top.stamp != heap_stamp_[top.edge])
+        continue;
+      Quad q;
+      if (!quadOf (edge_he_[top.edge], q) || !feasible (q))
+        continue;
+      std::size_t pairs = 0;
+      if (grid_) {
+        const auto [before, after] = intersectionChange (q);
+        if (after > before)
+          continue;
+        intersections_ -= before - after;
+        pairs = after;
+      }
+      applySwap (q, pairs);
+    }
+  }
+
+  /** Swaps edges of triangles in intersecting pairs while that strictly lowers the
+    * number of pairs; returns whether any swap was made. */
+  bool
+  removeIntersections ()
+  {
+    bool any = false;
+    std::vector<std::int32_t> work;
+    // Popped from the back: in increasing order.
+    for (auto t = static_cast<std::int32_t> (tri_.size ()) - 1; t >= 0; --t)
+      if (partners_[t] > 0)
+        work.push_back (t);
+    while (!work.empty () && !swapLimitReached ()) {
+      const std::int32_t t = work.back ();
+      work.pop_back ();
+      if (partners_[t] == 0)
+        continue;
+      Quad best;
+      std::size_t best_before = 0, best_after = 0;
+      bool found = false;
+      for (int i = 0; i < 3; ++i) {
+        Quad q;
+        if (!quadOf (3 * t + i, q) || !feasible (q))
+          continue;
+        const auto [before, after] = intersectionChange (q);
+        if (after < before && (!found || before - after > best_before - best_after)) {
+          best = q;
+          best_before = before;
+          best_after = after;
+          found = true;
+        }
+      }
+      if (!found)
+        continue;
+      intersections_ -= best_before - best_after;
+      applySwap (best, best_after);
+      any = true;
+      // Both new triangles may still take part in pairs: look at them again.
+      if (best_after > 0) {
+        work.push_back (best.t1);
+        work.push_back (best.t0);
+      }
+    }
+    return any;
+  }
+
+private:
+  struct Entry
+  {
+    double delta;
+    std::int32_t edge;
+    std::uint32_t stamp;
+    bool
+    operator< (const Entry& other) const
+    {
+      // std::priority_queue is a max-heap: the most negative change (then the lowest
+      // edge id, for determinism) must compare greatest.
+      return std::tie (other.delta, other.edge) < std::tie (delta, edge);
+    }
+  };
+
+  static std::size_t
+  next (std::size_t h)
+  {
+    return h % 3 == 2 ? h - 2 : h + 1;
+  }
+
+  static std::size_t
+  prev (std::size_t h)
+  {
+    return h % 3 == 0 ? h + 2 : h - 1;
+  }
+
+  std::int32_t
+  from (std::size_t h) const
+  {
+    return tri_[h / 3][h % 3];
+  }
+
+  std::int32_t
+  to (std::size_t h) const
+  {
+    return tri_[h / 3][(h + 1) % 3];
+  }
+
+  Vec3
+  normal (const Vec3& a, const Vec3& b, const Vec3& c) const
+  {
+    return (b - a).cross (c - a);
+  }
+
+  /** The unit normal of triangle t (zero if degenerate), cached. */
+  const Vec3&
+  normal (std::size_t t) const
+  {
+    return unit_normal_[t];
+  }
+
+  void
+  updateNormal (std::size_t t)
+  {
+    const Vec3 n = normal (p_[tri_[t][0]], p_[tri_[t][1]], p_[tri_[t][2]]);
+    const double length = n.norm ();
+    unit_normal_[t] = length > 0.0 ? Vec3 (n / length) : Vec3::Zero ();
+  }
+
+  /** ABN and the integrated mean curvature are sums over edges: summed over the
+    * vertices, (3/4) |e| beta_e counts each interior edge at both of its ends. */
+  bool
+  perEdge () const
+  {
+    return options_.cost == SwapCost::AngleBetweenNormals ||
+           options_.cost == SwapCost::IntegratedMeanCurvature;
+  }
+
+  double
+  edgeWeight (std::int32_t u, std::int32_t w) const
+  {
+    return options_.cost == SwapCost::AngleBetweenNormals ? 1.0 : 1.5 * (p_[u] - p_[w]).norm ();
+  }
+
+  /** Whether u-w is an edge. */
+  bool
+  adjacent (std::int32_t u, std::int32_t w) const
+  {
+    bool found = false;
+    forEachOutgoing (u, [&] (std::size_t h) {
+      found = found || to (h) == w || (opp_[prev (h)] < 0 && from (prev (h)) == w);
+    });
+    return found;
+  }
+
+  bool
+  swapLimitReached () const
+  {
+    return options_.max_swaps != 0 && swaps_ >= options_.max_swaps;
+  }
+
+  /** Calls visit (h) for the outgoing half-edges h of v in counter-clockwise order,
+    * starting at the boundary if v is on it; returns whether the fan is closed. */
+  template <typename Visit>
+  bool
+  forEachOutgoing (std::int32_t v, Visit&& visit) const
+  {
+    std::int32_t start = vert_he_[v];
+    // Walk clockwise to the boundary half-edge, if there is one.
+    for (std::int32_t h = start;;) {
+      const std::int32_t g = opp_[h];
+      if (g < 0) {
+        start = h;
+        break;
+      }
+      h = static_cast<std::int32_t> (next (g));
+      if (h == start)
+        break;
+    }
+    for (std::int32_t h = start;;) {
+      visit (static_cast<std::size_t> (h));
+      const std::int32_t back = opp_[prev (h)]; // twin of w_j+1 -> v
+      if (back < 0)
+        return false;
+      h = back;
+      if (h == start)
+        return true;
+    }
+  }
+
+  /** Collects the link of v. */
+  void
+  gatherLink (std::int32_t v, Link& link) const
+  {
+    link.w.clear ();
+    std::size_t last = 0;
+    link.closed = forEachOutgoing (v, [&] (std::size_t h) {
+      link.w.push_back (to (h));
+      last = h;
+    });
+    if (!link.closed)
+      link.w.push_back (from (prev (last)));
+  }
+
+  /** The cost of vertex v with the given link (squared mean and total absolute
+    * curvature). */
+  double
+  vertexCost (std::int32_t v, const Link& link) const
+  {
+    const std::size_t k = link.w.size ();
+    const std::size_t fans = link.closed ? k : k - 1;
+    const Vec3& pv = p_[v];
+    double area = 0.0, angles = 0.0, integrated_mean = 0.0;
+    Vec3 first_normal, last_normal;
+    for (std::size_t j = 0; j < fans; ++j) {
+      const Vec3 e1 = p_[link.w[j]] - pv, e2 = p_[link.w[(j + 1) % k]] - pv;
+      const Vec3 n = e1.cross (e2);
+      area += 0.5 * n.norm ();
+      angles += angleBetween (e1, e2);
+      if (j == 0)
+        first_normal = n;
+      else
+        integrated_mean += e1.norm () * angleBetween (last_normal, n);
+      last_normal = n;
+    }
+    if (link.closed)
+      integrated_mean += (p_[link.w[0]] - pv).norm () * angleBetween (last_normal, first_normal);
+    integrated_mean *= 0.75;              // |H| A
+    const double defect = 3.0 * ((link.closed ? 2.0 * pi : pi) - angles); // K A
+    if (options_.cost == SwapCost::SquaredMeanCurvature)
+      return area > 0.0 ? integrated_mean * integrated_mean / area : 0.0;
+    // Total absolute curvature: (|k1| + |k2|) A with H A and K A.
+    if (defect >= 0.0)
+      return 2.0 * integrated_mean;
+    return 2.0 * std::sqrt (integrated_mean * integrated_mean - defect * area);
+  }
+
+  /** The quad of an interior half-edge; false on the boundary. */
+  bool
+  quadOf (std::int32_t h, Quad& q) const
+  {
+    const std::int32_t g = opp_[h];
+    if (g < 0)
+      return false;
+    q.h = h;
+    q.g = g;
+    q.a = from (h);
+    q.b = to (h);
+    q.c = from (prev (h));
+    q.d = from (prev (g));
+    q.t0 = h / 3;
+    q.t1 = g / 3;
+    return true;
+  }
+
+  /** Combinatorial and geometric admissibility of swapping q. */
+  bool
+  feasible (const Quad& q)
+  {
+    if (q.c == q.d)
+      return false;
+    if (adjacent (q.c, q.d))
+      return false;
+    const Vec3 &a = p_[q.a], &b = p_[q.b], &c = p_[q.c], &d = p_[q.d];
+    const Vec3 n0 = normal (a, d, c), n1 = normal (d, b, c);
+    // Degenerate: sine of the smallest angle below about 1e-8.
+    const auto degenerate = [] (const Vec3& n, const Vec3& x, const Vec3& y, const Vec3& z) {
+      const double longest = std::max ({(x - y).squaredNorm (), (y - z).squaredNorm (), (z - x).squaredNorm ()});
+      return !(n.norm () > 1e-8 * longest);
+    };
+    if (degenerate (n0, a, d, c) || degenerate (n1, d, b, c))
+      return false;
+    // Turns are allowed up to the bound, or up to the old quad's turn if that is
+    // larger: a swap may leave a fold it cannot open, never deepen it. (A degenerate
+    // old triangle has a zero normal and constrains nothing.)
+    const Vec3& o0 = normal (q.t0);
+    const Vec3& o1 = normal (q.t1);
+    const double old_cos = std::min (cos_fold_, o0.dot (o1));
+    const auto within = [old_cos] (const Vec3& u, const Vec3& v) {
+      return u.dot (v) >= old_cos * u.norm () * v.norm ();
+    };
+    if (!within (n0, n1))
+      return false;
+    return (within (n0, o0) || within (n0, o1)) && (within (n1, o0) || within (n1, o1));
+  }
+
+  /** Cost change of swapping q (negative is better); `local` receives the part of the
+    * cost the swap acts on, the scale for the rounding tolerance. */
+  double
+  costChange (const Quad& q, double& local)
+  {
+    if (perEdge ()) {
+      const Vec3& o0 = normal (q.t0);
+      const Vec3& o1 = normal (q.t1);
+      const Vec3 n0 = normal (p_[q.a], p_[q.d], p_[q.c]).normalized ();
+      const Vec3 n1 = normal (p_[q.d], p_[q.b], p_[q.c]).normalized ();
+      local = edgeWeight (q.a, q.b) * angleBetween (o0, o1);
+      double after = edgeWeight (q.c, q.d) * angleBetween (n0, n1);
+      // Outer edges: the old and the new triangle at them, the old half-edge.
+      const std::array<std::tuple<const Vec3*, const Vec3*, std::size_t>, 4> outer{
+          std::make_tuple (&o0, &n1, next (q.h)),  // b->c
+          std::make_tuple (&o0, &n0, prev (q.h)),  // c->a
+          std::make_tuple (&o1, &n0, next (q.g)),  // a->d
+          std::make_tuple (&o1, &n1, prev (q.g))}; // d->b
+      for (const auto& [old_n, new_n, he] : outer) {
+        const std::int32_t across = opp_[he];
+        if (across < 0)
+          continue;
+        const Vec3& m = normal (across / 3);
+        const double weight = edgeWeight (from (he), to (he));
+        local += weight * angleBetween (*old_n, m);
+        after += weight * angleBetween (*new_n, m);
+      }
+      return after - local;
+    }
+    local = 0.0;
+    double after = 0.0;
+    const std::array<std::pair<std::int32_t, std::int32_t>, 4> edits{
+        std::make_pair (q.a, -q.b - 1), std::make_pair (q.b, -q.a - 1),
+        std::make_pair (q.c, q.d), std::make_pair (q.d, q.c)};
+    for (const auto& [v, edit] : edits) {
+      gatherLink (v, scratch_);
+      auto& w = scratch_.w;
+      if (edit < 0) // remove the swapped edge's other end from the link
+        w.erase (std::find (w.begin (), w.end (), -edit - 1));
+      else {
+        // Insert the new neighbour between the two old ends: c's link has a, b and
+        // d's has b, a consecutively (cyclically).
+        const std::int32_t before = v == q.c ? q.a : q.b;
+        const auto it = std::find (w.begin (), w.end (), before);
+        w.insert (it + 1, edit);
+      }
+      local += vertex_cost_[v];
+      after += vertexCost (v, scratch_);
+    }
+    return after - local;
+  }
+
+  void
+  push (std::int32_t e)
+  {
+    ++heap_stamp_[e];
+    Quad q;
+    if (!quadOf (edge_he_[e], q) || q.c == q.d)
+      return;
+    double local = 0.0;
+    const double change = costChange (q, local);
+    // Changes within rounding of the local cost do not count as decreases: this keeps
+    // the descent finite. Most edges stop here, before the dearer feasibility test.
+    if (change < -1e-12 * local && feasible (q))
+      heap_.push ({change, e, heap_stamp_[e]});
+  }
+
+  /** Intersecting pairs of the quad's triangles before and after the swap. */
+  std::pair<std::size_t, std::size_t>
+  intersectionChange (const Quad& q)
+  {
+    // The pair t0, t1 itself is counted in both partner counts.
+    const std::size_t inner = pairIntersects (tri_[q.t0], axis_[q.t0], tri_[q.t1], axis_[q.t1]) ? 1 : 0;
+    const std::size_t before = partners_[q.t0] + partners_[q.t1] - inner;
+    const Triangle n0{q.a, q.d, q.c}, n1{q.d, q.b, q.c};
+    const int x0 = projectionAxis (p_[q.a], p_[q.d], p_[q.c]);
+    const int x1 = projectionAxis (p_[q.d], p_[q.b], p_[q.c]);
+    std::size_t after = pairIntersects (n0, x0, n1, x1) ? 1 : 0;
+    const auto count = [&after] (std::int32_t) { ++after; };
+    forEachIntersecting (n0, x0, q.t0, q.t1, count);
+    forEachIntersecting (n1, x1, q.t0, q.t1, count);
+    return {before, after};
+  }
+
+  /** Records triangle t's projection axis and box and enters it in the grid. */
+  void
+  place (std::int32_t t)
+  {
+    const Triangle& v = tri_[t];
+    axis_[t] = static_cast<std::int8_t> (projectionAxis (p_[v[0]], p_[v[1]], p_[v[2]]));
+    box_[t] = boxOf (p_, v);
+    grid_->insert (t, box_[t]);
+  }
+
+  /** Exactly degenerate faces (axis -1) are left out, as checkMesh does. */
+  bool
+  pairIntersects (const Triangle& s, int axis_s, const Triangle& t, int axis_t) const
+  {
+    return axis_s >= 0 && axis_t >= 0 && facesIntersect (p_, s, axis_s, t, axis_t);
+  }
+
+  /** Calls visit (x) for the triangles x of the mesh other than slots skip0 and skip1
+    * that intersect triangle t (projection axis `axis`). */
+  template <typename Visit>
+  void
+  forEachIntersecting (const Triangle& t, int axis, std::int32_t skip0, std::int32_t skip1, Visit&& visit)
+  {
+    if (axis < 0)
+      return;
+    const Box box = boxOf (p_, t);
+    grid_->forCandidates (box, [&] (std::int32_t x) {
+      if (x != skip0 && x != skip1 && axis_[x] >= 0 && overlap (box, box_[x]) &&
+          facesIntersect (p_, t, axis, tri_[x], axis_[x]))
+        visit (x);
+    });
+  }
+
+  /** Takes the quad's triangles out of the grid and their pairs out of the partner
+    * counts. */
+  void
+  leaveGrid (const Quad& q)
+  {
+    for (const std::int32_t t : {q.t0, q.t1}) {
+      if (partners_[t] > 0)
+        forEachIntersecting (tri_[t], axis_[t], q.t0, q.t1, [this] (std::int32_t x) { --partners_[x]; });
+      grid_->remove (t, box_[t]);
+    }
+  }
+
+  /** Enters the swapped triangles; `pairs` is the number of intersecting pairs they
+    * take part in (from intersectionChange), so the usual 0 needs no search. */
+  void
+  enterGrid (const Quad& q, std::size_t pairs)
+  {
+    place (q.t0);
+    place (q.t1);
+    partners_[q.t0] = partners_[q.t1] = 0;
+    if (pairs == 0)
+      return;
+    if (pairIntersects (tri_[q.t0], axis_[q.t0], tri_[q.t1], axis_[q.t1])) {
+      ++partners_[q.t0];
+      ++partners_[q.t1];
+    }
+    for (const std::int32_t t : {q.t0, q.t1})
+      forEachIntersecting (tri_[t], axis_[t], q.t0, q.t1, [&] (std::int32_t x) {
+        ++partners_[x];
+        ++partners_[t];
+      });
+  }
+
+  /** Writes the swap of q into the triangles and the half-edge structure and updates
+    * everything that depends on them; `pairs` as for enterGrid (ignored without
+    * intersection bookkeeping). */
+  void
+  applySwap (const Quad& q, std::size_t pairs)
+  {
+    // Old outer half-edges and their twins and edges, by their new place.
+    const std::array<std::size_t, 4> outer{prev (q.h), next (q.g), prev (q.g), next (q.h)};
+    std::array<std::int32_t, 4> twin, edge;
+    for (int i = 0; i < 4; ++i) {
+      twin[i] = opp_[outer[i]];
+      edge[i] = edge_of_[outer[i]];
+    }
+    const std::int32_t inner = edge_of_[q.h];
+    if (grid_)
+      leaveGrid (q);
+    // New triangles (c, a, d) and (d, b, c): half-edges c->a, a->d, d->c and
+    // d->b, b->c, c->d.
+    tri_[q.t0] = {q.c, q.a, q.d};
+    tri_[q.t1] = {q.d, q.b, q.c};
+    const std::array<std::int32_t, 4> slot{3 * q.t0, 3 * q.t0 + 1, 3 * q.t1, 3 * q.t1 + 1};
+    for (int i = 0; i < 4; ++i) {
+      opp_[slot[i]] = twin[i];
+      if (twin[i] >= 0)
+        opp_[twin[i]] = slot[i];
+      edge_of_[slot[i]] = edge[i];
+      edge_he_[edge[i]] = slot[i];
+    }
+    opp_[3 * q.t0 + 2] = 3 * q.t1 + 2;
+    opp_[3 * q.t1 + 2] = 3 * q.t0 + 2;
+    edge_of_[3 * q.t0 + 2] = edge_of_[3 * q.t1 + 2] = inner;
+    edge_he_[inner] = 3 * q.t0 + 2;
+    // Outgoing half-edges of the quad vertices that were rewritten.
+    const auto keep = [&] (std::int32_t v, std::int32_t h) {
+      if (vert_he_[v] / 3 == q.t0 || vert_he_[v] / 3 == q.t1)
+        vert_he_[v] = h;
+    };
+    keep (q.c, 3 * q.t0);
+    keep (q.a, 3 * q.t0 + 1);
+    keep (q.d, 3 * q.t1);
+    keep (q.b, 3 * q.t1 + 1);
+    updateNormal (q.t0);
+    updateNormal (q.t1);
+    if (grid_)
+      enterGrid (q, pairs);
+    ++swaps_;
+    if (heap_stamp_.empty ())
+      return;
+    ++round_;
+    const auto update = [this] (std::size_t h) {
+      const std::int32_t e = edge_of_[h];
+      if (seen_[e] != round_) {
+        seen_[e] = round_;
+        push (e);
+      }
+    };
+    if (perEdge ()) {
+      // An edge's swap cost depends on its two triangles and their neighbours: update
+      // the edges of the new triangles and of their neighbours.
+      for (const std::int32_t t : {q.t0, q.t1})
+        for (std::size_t h = 3 * static_cast<std::size_t> (t); h < 3 * static_cast<std::size_t> (t) + 3; ++h) {
+          update (h);
+          if (opp_[h] >= 0)
+            for (const std::size_t x : {static_cast<std::size_t> (opp_[h]), next (opp_[h]), prev (opp_[h])})
+              update (x);
+        }
+      // Removing a-b admits the swap of edges whose quad has a and b as apexes.
+      forEachOutgoing (q.a, [&] (std::size_t h) {
+        const std::int32_t g = opp_[next (h)];
+        if (g >= 0 && from (prev (g)) == q.b)
+          update (next (h));
+      });
+      return;
+    }
+    for (const std::int32_t v : {q.a, q.b, q.c, q.d}) {
+      gatherLink (v, scratch_);
+      vertex_cost_[v] = vertexCost (v, scratch_);
+    }
+    // A vertex cost depends on the vertex's fan: every edge of a triangle at a quad
+    // vertex has the vertex in its own quad, so its swap cost may have changed.
+    for (const std::int32_t v : {q.a, q.b, q.c, q.d})
+      forEachOutgoing (v, [&] (std::size_t h) {
+        update (h);
+        update (next (h));
+        update (prev (h));
+      });
+  }
+
+  const Points3& p_;
+  Triangles& tri_;
+  const EdgeSwapOptions& options_;
+  const double cos_fold_;
+  std::string message_;
+
+  std::vector<std::int32_t> opp_, edge_of_, edge_he_, vert_he_;
+  std::vector<Vec3> unit_normal_;
+  std::vector<double> vertex_cost_;
+  std::priority_queue<Entry> heap_;
+  std::vector<std::uint32_t> heap_stamp_, seen_;
+  std::uint32_t round_ = 0;
+  Link scratch_;
+  std::size_t swaps_ = 0;
+
+  std::unique_ptr<TriangleGrid> grid_;
+  std::vector<std::int8_t> axis_;
+  std::vector<Box> box_;
+  /** Per triangle slot: the number of triangles it intersects. */
+  std::vector<std::int32_t> partners_;
+  std::size_t intersections_ = 0;
+};
+
+} // namespace
+
+EdgeSwapResult
+optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOptions& options)
+{
+  EdgeSwapResult result;
+  for (const Triangle& t : triangles)
+    for (int i = 0; i < 3; ++i) {
+      if (t[i] < 0 || static_cast<std::size_t> (t[i]) >= points.size ()) {
+        result.message = "a triangle index is out of range";
+        return result;
+      }
+      if (t[i] == t[(i + 1) % 3]) {
+        result.message = "a triangle repeats a vertex";
+        return result;
+      }
+      if (!points[t[i]].allFinite ()) {
+        result.message = "a vertex has a non-finite coordinate";
+        return result;
+      }
+    }
+  try {
+    // Work on a copy so that no failure can leave a half-done mesh behind.
+    Triangles work = triangles;
+    Optimizer optimizer (points, work, options);
+    if (!optimizer.build ()) {
+      result.message = optimizer.message ();
+      return result;
+    }
+    result.cost_before = optimizer.totalCost ();
+    if (options.remove_self_intersections)
+      result.self_intersections_before = optimizer.initIntersections ();
+    optimizer.descend ();
+    // Each round of targeted swaps strictly lowers the number of intersecting pairs
+    // and the descent never raises it, so this ends.
+    while (options.remove_self_intersections && optimizer.removeIntersections ())
+      optimizer.descend ();
+    result.cost_after = optimizer.totalCost ();
+    result.self_intersections_after = optimizer.intersections ();
+    result.swaps = optimizer.swaps ();
+    triangles.swap (work);
+    result.success = true;
+  }
+  catch (const std::bad_alloc&) {
+    result.message = "out of memory";
+  }
+  return result;
+}
+
+} // namespace meshless
+} // namespace pcl

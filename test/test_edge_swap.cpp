@@ -1,0 +1,347 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/edge_swap.h>
+#include <pcl/surface/meshless/mesh_checks.h>
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+#include <set>
+#include <utility>
+
+using namespace pcl::meshless;
+
+namespace {
+
+using Edge = std::pair<pcl::index_t, pcl::index_t>;
+
+Edge
+undirected (pcl::index_t u, pcl::index_t v)
+{
+  return {std::min (u, v), std::max (u, v)};
+}
+
+/** Undirected edge -> number of triangles using it. */
+std::map<Edge, int>
+edgeUse (const Triangles& triangles)
+{
+  std::map<Edge, int> use;
+  for (const Triangle& t : triangles)
+    for (int i = 0; i < 3; ++i)
+      ++use[undirected (t[i], t[(i + 1) % 3])];
+  return use;
+}
+
+std::set<Edge>
+boundaryEdges (const Triangles& triangles)
+{
+  std::set<Edge> boundary;
+  for (const auto& [edge, count] : edgeUse (triangles))
+    if (count == 1)
+      boundary.insert (edge);
+  return boundary;
+}
+
+bool
+hasEdge (const Triangles& triangles, pcl::index_t u, pcl::index_t v)
+{
+  return edgeUse (triangles).count (undirected (u, v)) > 0;
+}
+
+/** Swaps edge u-v of a consistently oriented mesh the way the stage does, for building
+  * bad inputs; false if u-v is not an interior edge or the new edge exists. */
+bool
+flipEdge (Triangles& triangles, pcl::index_t u, pcl::index_t v)
+{
+  int t0 = -1, t1 = -1, i0 = 0, i1 = 0;
+  for (int t = 0; t < static_cast<int> (triangles.size ()); ++t)
+    for (int i = 0; i < 3; ++i) {
+      if (triangles[t][i] == u && triangles[t][(i + 1) % 3] == v) {
+        t0 = t;
+        i0 = i;
+      }
+      if (triangles[t][i] == v && triangles[t][(i + 1) % 3] == u) {
+        t1 = t;
+        i1 = i;
+      }
+    }
+  if (t0 < 0 || t1 < 0)
+    return false;
+  const pcl::index_t c = triangles[t0][(i0 + 2) % 3], d = triangles[t1][(i1 + 2) % 3];
+  if (c == d || hasEdge (triangles, c, d))
+    return false;
+  triangles[t0] = {u, d, c};
+  triangles[t1] = {d, v, c};
+  return true;
+}
+
+/** Loop-subdivided-style icosphere (midpoint subdivision projected to the sphere). */
+void
+icosphere (int levels, Points3& points, Triangles& triangles)
+{
+  const double g = (1.0 + std::sqrt (5.0)) / 2.0;
+  points = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0}, {0, -1, g}, {0, 1, g},
+            {0, -1, -g}, {0, 1, -g}, {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
+  triangles = {{0, 11, 5}, {0, 5, 1}, {0, 1, 7}, {0, 7, 10}, {0, 10, 11}, {1, 5, 9}, {5, 11, 4},
+               {11, 10, 2}, {10, 7, 6}, {7, 1, 8}, {3, 9, 4}, {3, 4, 2}, {3, 2, 6}, {3, 6, 8},
+               {3, 8, 9}, {4, 9, 5}, {2, 4, 11}, {6, 2, 10}, {8, 6, 7}, {9, 8, 1}};
+  for (auto& p : points)
+    p.normalize ();
+  for (int level = 0; level < levels; ++level) {
+    std::map<Edge, pcl::index_t> middle;
+    const auto mid = [&] (pcl::index_t a, pcl::index_t b) {
+      const auto [it, inserted] = middle.emplace (undirected (a, b), static_cast<pcl::index_t> (points.size ()));
+      if (inserted)
+        points.push_back ((points[a] + points[b]).normalized ());
+      return it->second;
+    };
+    Triangles finer;
+    for (const Triangle& t : triangles) {
+      const pcl::index_t ab = mid (t[0], t[1]), bc = mid (t[1], t[2]), ca = mid (t[2], t[0]);
+      finer.push_back ({t[0], ab, ca});
+      finer.push_back ({t[1], bc, ab});
+      finer.push_back ({t[2], ca, bc});
+      finer.push_back ({ab, bc, ca});
+    }
+    triangles.swap (finer);
+  }
+}
+
+/** The icosphere with random edges flipped (only flips that keep the mesh valid). */
+void
+scrambledSphere (Points3& points, Triangles& triangles)
+{
+  icosphere (3, points, triangles);
+  std::mt19937 random (7);
+  for (int k = 0; k < 400; ++k) {
+    const Triangle t = triangles[random () % triangles.size ()];
+    const int i = static_cast<int> (random () % 3);
+    flipEdge (triangles, t[i], t[(i + 1) % 3]);
+  }
+}
+
+/** The topology and boundary of `after` match `before`, and nothing is duplicated. */
+void
+expectSameTopology (const Points3& points, const Triangles& before, const Triangles& after)
+{
+  const MeshReport r0 = checkMesh (points, before), r1 = checkMesh (points, after);
+  EXPECT_EQ (r1.num_triangles, r0.num_triangles);
+  EXPECT_EQ (r1.num_edges, r0.num_edges);
+  EXPECT_EQ (r1.used_vertices, r0.used_vertices);
+  EXPECT_EQ (r1.euler_characteristic, r0.euler_characteristic);
+  EXPECT_EQ (r1.components, r0.components);
+  EXPECT_TRUE (r1.isManifold ());
+  EXPECT_TRUE (r1.isOriented ());
+  EXPECT_EQ (r1.non_manifold_edges, 0u);
+  EXPECT_EQ (r1.duplicate_triangles, 0u);
+  EXPECT_EQ (r1.degenerate_triangles, 0u);
+  EXPECT_EQ (boundaryEdges (after), boundaryEdges (before));
+}
+
+} // namespace
+
+TEST (EdgeSwap, TetrahedronHasNothingToSwap)
+{
+  const Points3 points{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  Triangles triangles{{0, 2, 1}, {0, 1, 3}, {1, 2, 3}, {0, 3, 2}};
+  const Triangles input = triangles;
+  const EdgeSwapResult result = optimizeBySwaps (points, triangles);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_EQ (result.swaps, 0u); // every swap would duplicate an edge
+  EXPECT_EQ (triangles, input);
+  EXPECT_EQ (result.self_intersections_before, 0u);
+  EXPECT_EQ (result.self_intersections_after, 0u);
+}
+
+TEST (EdgeSwap, OctahedronStaysValid)
+{
+  const Points3 points{{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  Triangles triangles{{0, 2, 4}, {2, 1, 4}, {1, 3, 4}, {3, 0, 4},
+                      {2, 0, 5}, {1, 2, 5}, {3, 1, 5}, {0, 3, 5}};
+  const Triangles input = triangles;
+  for (const SwapCost cost : {SwapCost::AngleBetweenNormals, SwapCost::IntegratedMeanCurvature,
+                              SwapCost::SquaredMeanCurvature, SwapCost::TotalAbsoluteCurvature}) {
+    Triangles work = input;
+    EdgeSwapOptions options;
+    options.cost = cost;
+    const EdgeSwapResult result = optimizeBySwaps (points, work, options);
+    ASSERT_TRUE (result.success) << result.message;
+    // The regular octahedron is optimal: a swap makes the quad non-convex.
+    EXPECT_EQ (result.swaps, 0u);
+    EXPECT_LE (result.cost_after, result.cost_before);
+    EXPECT_TRUE (checkMesh (points, work).isSphereLike ());
+    expectSameTopology (points, input, work);
+  }
+}
+
+TEST (EdgeSwap, RidgeEdgesAppearInHeightField)
+{
+  // z = -|x - y| on a 7 x 7 grid: a ridge along the diagonal x = y. Every cell is cut
+  // by the anti-diagonal, which crosses the ridge in the cells along it.
+  const int n = 7;
+  Points3 points;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      points.emplace_back (i, j, -std::abs (i - j));
+  const auto id = [n] (int i, int j) { return static_cast<pcl::index_t> (j * n + i); };
+  Triangles triangles;
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      triangles.push_back ({id (i, j), id (i + 1, j), id (i, j + 1)});
+      triangles.push_back ({id (i + 1, j), id (i + 1, j + 1), id (i, j + 1)});
+    }
+  const Triangles input = triangles;
+  for (const SwapCost cost : {SwapCost::AngleBetweenNormals, SwapCost::IntegratedMeanCurvature,
+                              SwapCost::SquaredMeanCurvature, SwapCost::TotalAbsoluteCurvature}) {
+    Triangles work = input;
+    EdgeSwapOptions options;
+    options.cost = cost;
+    const EdgeSwapResult result = optimizeBySwaps (points, work, options);
+    ASSERT_TRUE (result.success) << result.message;
+    // The edge costs see only the ridge; the vertex costs (H^2 A, (|k1|+|k2|) A)
+    // also depend on the fan areas, so they may swap flat edges too.
+    if (cost == SwapCost::AngleBetweenNormals || cost == SwapCost::IntegratedMeanCurvature) {
+      EXPECT_EQ (result.swaps, static_cast<std::size_t> (n - 1));
+    }
+    EXPECT_LT (result.cost_after, result.cost_before);
+    if (cost == SwapCost::AngleBetweenNormals) { // only the ridge bends, by acos (-1/3)
+      EXPECT_NEAR (result.cost_after, (n - 1) * std::acos (-1.0 / 3.0), 1e-9);
+    }
+    for (int i = 0; i + 1 < n; ++i)
+      EXPECT_TRUE (hasEdge (work, id (i, i), id (i + 1, i + 1))) << "ridge edge " << i;
+    EXPECT_TRUE (checkMesh (points, work).isDiscLike ());
+    expectSameTopology (points, input, work);
+  }
+}
+
+TEST (EdgeSwap, ScrambledSphereIsRepaired)
+{
+  Points3 points;
+  Triangles triangles;
+  scrambledSphere (points, triangles);
+  const MeshReport before = checkMesh (points, triangles);
+  ASSERT_TRUE (before.isSphereLike ());
+  for (const SwapCost cost : {SwapCost::AngleBetweenNormals, SwapCost::IntegratedMeanCurvature,
+                              SwapCost::SquaredMeanCurvature, SwapCost::TotalAbsoluteCurvature}) {
+    Triangles work = triangles;
+    EdgeSwapOptions options;
+    options.cost = cost;
+    const EdgeSwapResult result = optimizeBySwaps (points, work, options);
+    ASSERT_TRUE (result.success) << result.message;
+    EXPECT_GT (result.swaps, 0u);
+    EXPECT_LT (result.cost_after, result.cost_before);
+    const MeshReport after = checkMesh (points, work);
+    EXPECT_TRUE (after.isSphereLike ());
+    EXPECT_EQ (after.self_intersecting_pairs, 0u);
+    EXPECT_EQ (result.self_intersections_before, before.self_intersecting_pairs);
+    EXPECT_EQ (result.self_intersections_after, 0u);
+    EXPECT_GT (after.mean_min_angle_deg, before.mean_min_angle_deg + 5.0);
+    EXPECT_NEAR (after.signed_volume, before.signed_volume, 1e-9 + 0.05 * before.signed_volume);
+    expectSameTopology (points, triangles, work);
+  }
+}
+
+TEST (EdgeSwap, MaxSwapsIsHonoured)
+{
+  Points3 points;
+  Triangles triangles;
+  scrambledSphere (points, triangles);
+  EdgeSwapOptions options;
+  options.max_swaps = 5;
+  const Triangles input = triangles;
+  const EdgeSwapResult result = optimizeBySwaps (points, triangles, options);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_EQ (result.swaps, 5u);
+  EXPECT_LT (result.cost_after, result.cost_before);
+  expectSameTopology (points, input, triangles);
+}
+
+TEST (EdgeSwap, FoldIsRemoved)
+{
+  // A flat 5 x 5 grid cut by the diagonals i,j - i+1,j+1, with vertex (3,3) pulled
+  // towards (2,2) so that the quad (2,2), (3,2), (3,3), (2,3) is a dart; flipping
+  // its diagonal (2,2)-(3,3) folds two triangles over each other.
+  const int n = 5;
+  Points3 points;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      points.emplace_back (i, j, 0.05 * (i * i + j * j)); // a gentle bowl
+  const auto id = [n] (int i, int j) { return static_cast<pcl::index_t> (j * n + i); };
+  points[id (3, 3)] = Eigen::Vector3d (2.3, 2.3, 0.05 * 2 * 2.3 * 2.3);
+  Triangles triangles;
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      triangles.push_back ({id (i, j), id (i + 1, j), id (i + 1, j + 1)});
+      triangles.push_back ({id (i, j), id (i + 1, j + 1), id (i, j + 1)});
+    }
+  ASSERT_EQ (checkMesh (points, triangles).self_intersecting_pairs, 0u);
+  ASSERT_TRUE (flipEdge (triangles, id (2, 2), id (3, 3)));
+  const MeshReport before = checkMesh (points, triangles);
+  ASSERT_TRUE (before.isDiscLike ());
+  ASSERT_GT (before.self_intersecting_pairs, 0u);
+
+  for (const bool targeted : {true, false}) {
+    Triangles work = triangles;
+    EdgeSwapOptions options;
+    options.remove_self_intersections = targeted;
+    const EdgeSwapResult result = optimizeBySwaps (points, work, options);
+    ASSERT_TRUE (result.success) << result.message;
+    const MeshReport after = checkMesh (points, work);
+    EXPECT_EQ (after.self_intersecting_pairs, 0u) << "targeted " << targeted;
+    EXPECT_TRUE (after.isDiscLike ());
+    expectSameTopology (points, triangles, work);
+    if (targeted) {
+      EXPECT_EQ (result.self_intersections_before, before.self_intersecting_pairs);
+      EXPECT_EQ (result.self_intersections_after, 0u);
+    }
+  }
+}
+
+TEST (EdgeSwap, IsDeterministic)
+{
+  Points3 points;
+  Triangles triangles;
+  scrambledSphere (points, triangles);
+  for (const SwapCost cost : {SwapCost::AngleBetweenNormals, SwapCost::TotalAbsoluteCurvature}) {
+    EdgeSwapOptions options;
+    options.cost = cost;
+    Triangles first = triangles, second = triangles;
+    const EdgeSwapResult r1 = optimizeBySwaps (points, first, options);
+    const EdgeSwapResult r2 = optimizeBySwaps (points, second, options);
+    ASSERT_TRUE (r1.success && r2.success);
+    EXPECT_EQ (first, second);
+    EXPECT_EQ (r1.swaps, r2.swaps);
+    EXPECT_EQ (r1.cost_after, r2.cost_after);
+  }
+}
+
+TEST (EdgeSwap, RejectsInvalidInputUntouched)
+{
+  const Points3 points{{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}, {1, 1, 1}};
+  const std::vector<Triangles> bad{
+      {{0, 1, 2}, {0, 1, 3}},                          // inconsistent orientation
+      {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}},               // edge in three triangles
+      {{0, 1, 7}},                                     // index out of range
+      {{0, 1, 1}},                                     // repeated index
+      {{0, 1, 2}, {0, 3, 4}}};                         // bowtie: two fans at vertex 0
+  for (const Triangles& input : bad) {
+    Triangles work = input;
+    const EdgeSwapResult result = optimizeBySwaps (points, work);
+    EXPECT_FALSE (result.success);
+    EXPECT_FALSE (result.message.empty ());
+    EXPECT_EQ (work, input);
+  }
+}
+
+TEST (EdgeSwap, EmptyMeshIsFine)
+{
+  Triangles triangles;
+  const EdgeSwapResult result = optimizeBySwaps ({}, triangles);
+  EXPECT_TRUE (result.success) << result.message;
+  EXPECT_EQ (result.swaps, 0u);
+}
