@@ -720,6 +720,48 @@ public:
     return any;
   }
 
+  /** The angle pass (EdgeSwapOptions::improve_angles): swaps edges that are not
+    * locally Delaunay in nearly flat quads, under the same admissibility rules and
+    * without adding intersecting pairs. Bounded by a number of swaps proportional
+    * to the mesh (on a plane it ends by itself; curved quads could cycle). */
+  void
+  improveAngles (double max_dihedral_deg)
+  {
+    constexpr double pi = 3.14159265358979323846;
+    const double cos_flat = std::cos (max_dihedral_deg * pi / 180.0);
+    std::vector<std::int32_t> work;
+    for (auto e = static_cast<std::int32_t> (edge_he_.size ()) - 1; e >= 0; --e)
+      work.push_back (e);
+    std::size_t budget = 10 * tri_.size ();
+    while (!work.empty () && !swapLimitReached () && budget > 0) {
+      const std::int32_t e = work.back ();
+      work.pop_back ();
+      Quad q;
+      if (!quadOf (edge_he_[e], q))
+        continue;
+      const Vec3 &a = p_[q.a], &b = p_[q.b], &c = p_[q.c], &d = p_[q.d];
+      if (angleBetween (a - c, b - c) + angleBetween (b - d, a - d) <= pi + 1e-9)
+        continue;
+      if (normal (q.t0).dot (normal (q.t1)) < cos_flat || !feasible (q))
+        continue;
+      const Vec3 n0 = normal (a, d, c), n1 = normal (d, b, c);
+      if (n0.dot (n1) < cos_flat * n0.norm () * n1.norm ())
+        continue;
+      std::size_t pairs = 0;
+      if (grid_) {
+        const auto [before, after] = intersectionChange (q);
+        if (after > before)
+          continue;
+        intersections_ -= before - after;
+        pairs = after;
+      }
+      applySwap (q, pairs);
+      --budget;
+      for (const std::int32_t h : {3 * q.t0, 3 * q.t0 + 1, 3 * q.t1, 3 * q.t1 + 1})
+        work.push_back (edge_of_[h]);
+    }
+  }
+
 private:
   struct Entry
   {
@@ -1235,6 +1277,8 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     // and the descent never raises it, so this ends.
     while (options.remove_self_intersections && optimizer.removeIntersections ())
       optimizer.descend ();
+    if (options.improve_angles)
+      optimizer.improveAngles (options.angle_pass_max_dihedral_deg);
     result.cost_after = optimizer.totalCost ();
     result.self_intersections_after = optimizer.intersections ();
     result.swaps = optimizer.swaps ();

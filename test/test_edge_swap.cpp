@@ -201,6 +201,7 @@ TEST (EdgeSwap, RidgeEdgesAppearInHeightField)
     Triangles work = input;
     EdgeSwapOptions options;
     options.cost = cost;
+    options.improve_angles = false; // the descent alone; the angle pass is tested below
     const EdgeSwapResult result = optimizeBySwaps (points, work, options);
     ASSERT_TRUE (result.success) << result.message;
     // The edge costs see only the ridge; the vertex costs (H^2 A, (|k1|+|k2|) A)
@@ -217,6 +218,40 @@ TEST (EdgeSwap, RidgeEdgesAppearInHeightField)
     EXPECT_TRUE (checkMesh (points, work).isDiscLike ());
     expectSameTopology (points, input, work);
   }
+}
+
+TEST (EdgeSwap, AnglePassTakesShortDiagonalsAndKeepsTheRidge)
+{
+  // The same ridge: on each tilted half the grid cells are rhombi with angles of 60
+  // and 120 degrees; the angle pass must cut every flat rhombus along its short
+  // diagonal (both triangles equilateral) and leave the ridge (70.5 degrees) alone.
+  const int n = 7;
+  Points3 points;
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      points.emplace_back (i, j, -std::abs (i - j));
+  const auto id = [n] (int i, int j) { return static_cast<pcl::index_t> (j * n + i); };
+  Triangles triangles;
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      triangles.push_back ({id (i, j), id (i + 1, j), id (i, j + 1)});
+      triangles.push_back ({id (i + 1, j), id (i + 1, j + 1), id (i, j + 1)});
+    }
+  const Triangles input = triangles;
+  const EdgeSwapResult result = optimizeBySwaps (points, triangles);
+  ASSERT_TRUE (result.success) << result.message;
+  for (int i = 0; i + 1 < n; ++i)
+    EXPECT_TRUE (hasEdge (triangles, id (i, i), id (i + 1, i + 1))) << "ridge edge " << i;
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      // Short diagonal of the rhombus (length sqrt 2 against sqrt 6): between the
+      // two corners at the same height, (i, j) and (i + 1, j + 1), on both halves.
+      EXPECT_TRUE (hasEdge (triangles, id (i, j), id (i + 1, j + 1))) << "cell " << i << "," << j;
+    }
+  const MeshReport report = checkMesh (points, triangles);
+  EXPECT_TRUE (report.isDiscLike ());
+  EXPECT_NEAR (report.mean_min_angle_deg, 60.0, 1e-6);
+  expectSameTopology (points, input, triangles);
 }
 
 TEST (EdgeSwap, ScrambledSphereIsRepaired)

@@ -67,6 +67,19 @@ struct EdgeSwapOptions
     * the cost by more than rounding, and there are finitely many triangulations).
     * Limits all swaps of all passes. */
   std::size_t max_swaps = 0;
+  /** \brief Default: true. A last pass that makes the mesh locally Delaunay where it
+    * is nearly flat: an edge whose two opposite angles sum to more than pi is
+    * swapped when its quad turns by less than `angle_pass_max_dihedral_deg`, the
+    * swap is admissible as above, and it adds no intersecting pair. It runs last
+    * because the curvature descent prefers slivers along the directions of least
+    * curvature on smooth, curved parts and would undo it. Measured (mean smallest
+    * angle, share below 10 degrees, after the whole stage): 1:1:6 ellipsoid of
+    * 3,000 points 16.7 -> 32.8 deg, 31.5% -> 2.2%; fandisk 39.5 -> 43 deg,
+    * 3.5% -> 0.2%; armadillo_igl 37.5 -> 41.8 deg; no intersecting pair added. */
+  bool improve_angles = true;
+  /** \brief Default: 15. Quads turning more than this (degrees) are left alone by
+    * the angle pass: across a crease a swap would cut the feature. */
+  double angle_pass_max_dihedral_deg = 15.0;
 };
 
 struct EdgeSwapResult : StageStatus
