@@ -10,6 +10,8 @@
 #include <map>
 #include <set>
 
+#include <Eigen/Eigenvalues>
+
 namespace pcl {
 namespace meshless {
 
@@ -79,7 +81,8 @@ BaseMesh
 polyhedronBaseMesh (const Points3& points,
                     BasePolyhedron polyhedron,
                     const Eigen::Matrix3d& rotation,
-                    const std::vector<char>& eligible)
+                    const std::vector<char>& eligible,
+                    CornerPlacement placement)
 {
   BaseMesh mesh;
   if (points.empty ())
@@ -89,6 +92,20 @@ polyhedronBaseMesh (const Points3& points,
   for (const auto& v : points)
     centroid += v;
   centroid /= static_cast<double> (points.size ());
+  // Rays are cast in the frame where the cloud's covariance is the identity, so
+  // that an elongated shape gets its corners spread along its length as a round
+  // one does around it.
+  Eigen::Matrix3d whiten = Eigen::Matrix3d::Identity ();
+  if (placement == CornerPlacement::AlongRays) {
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero ();
+    for (const auto& v : points)
+      covariance += (v - centroid) * (v - centroid).transpose ();
+    const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen (covariance);
+    const Eigen::Vector3d values = eigen.eigenvalues ();
+    if (values.minCoeff () > 1e-12 * values.maxCoeff ())
+      whiten = eigen.eigenvectors () * values.cwiseSqrt ().cwiseInverse ().asDiagonal () *
+               eigen.eigenvectors ().transpose ();
+  }
   for (const auto& direction : p.directions) {
     const Eigen::Vector3d w = rotation * direction;
     pcl::index_t best = 0;
@@ -96,7 +113,12 @@ polyhedronBaseMesh (const Points3& points,
     for (std::size_t v = 0; v < points.size (); ++v) {
       if (!eligible.empty () && !eligible[v])
         continue;
-      const double value = (points[v] - centroid).dot (w);
+      double value = (points[v] - centroid).dot (w);
+      if (placement == CornerPlacement::AlongRays) {
+        const Eigen::Vector3d offset = whiten * (points[v] - centroid);
+        const double length = offset.norm ();
+        value = length > 0.0 ? offset.dot (w) / length : -1.0;
+      }
       if (value > best_value) {
         best_value = value;
         best = static_cast<pcl::index_t> (v);

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <queue>
 
 namespace pcl {
@@ -94,6 +95,26 @@ orientNormals (const Points3& points,
   }
   grow (mutual);
   grow (graph);
+
+  // The seed decides each component's sign alone and may sit in a thin part whose
+  // propagation went astray. On a closed surface the outward normal field gives
+  // sum n_v . (v - c) A_v = 3 volume > 0 (divergence theorem): let every oriented
+  // point vote, weighted by its squared distance to its nearest graph neighbour
+  // (a share of the area), and turn the whole component if the vote is negative.
+  std::vector<double> vote (components, 0.0);
+  for (std::size_t v = 0; v < n; ++v) {
+    if (ordered.normals[v].isZero ())
+      continue;
+    double spacing = std::numeric_limits<double>::infinity ();
+    for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
+      spacing = std::min (spacing, (points[*w] - points[v]).squaredNorm ());
+    if (std::isfinite (spacing))
+      vote[component[v]] += spacing * signedNormal (static_cast<pcl::index_t> (v))
+                                          .dot (points[v] - centroid[component[v]]);
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    if (vote[component[v]] < 0.0)
+      flip[v] = !flip[v];
 
   for (std::size_t v = 0; v < n; ++v)
     if (flip[v]) {

@@ -43,7 +43,11 @@ growLabels (const Points3& points,
   for (std::size_t v = 0; v < n; ++v)
     if (label[v] >= 0 && !on_path[v]) {
       distance[v] = 0.0;
-      heap.push ({0.0, static_cast<pcl::index_t> (v)});
+      for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
+        if (label[*w] < 0 && !on_path[*w]) {
+          heap.push ({0.0, static_cast<pcl::index_t> (v)});
+          break;
+        }
     }
   while (!heap.empty ()) {
     const auto [d, v] = heap.top ();
@@ -69,7 +73,6 @@ PatchSplit
 splitIntoPatches (const Points3& points,
                   const CsrGraph& graph,
                   const CsrGraph& fallback_graph,
-                  const CsrGraph& rings,
                   const CsrGraph& dependencies,
                   const BaseMesh& base,
                   const CutPaths& paths)
@@ -87,12 +90,15 @@ splitIntoPatches (const Points3& points,
     for (auto v : path)
       on_path[v] = 1;
 
-  // Loops, and seeds left of each directed path: in the ring of an inner path
-  // point v with predecessor p and successor s, the members counter-clockwise
-  // after s and before p lie to the left of p -> v -> s.
+  // Loops; every point keeps the region the paths cut it into.
+  if (paths.face_of.size () != n) {
+    result.message = "the cut paths carry no regions";
+    return result;
+  }
   result.patches.resize (faces);
   std::vector<int>& label = result.face_of;
-  label.assign (n, -1);
+  label = paths.face_of;
+  result.num_side_conflicts = paths.num_side_conflicts;
   for (std::size_t f = 0; f < faces; ++f) {
     std::vector<pcl::index_t>& loop = result.patches[f].loop;
     for (int k = 0; k < 3; ++k) {
@@ -103,27 +109,11 @@ splitIntoPatches (const Points3& points,
         return result;
       }
       loop.insert (loop.end (), side.begin (), side.end () - 1);
-      for (std::size_t j = 1; j + 1 < side.size (); ++j) {
-        const pcl::index_t v = side[j];
-        const pcl::index_t* begin = rings.begin (v);
-        const pcl::index_t* end = rings.end (v);
-        const long d = end - begin;
-        const long ps = std::find (begin, end, side[j + 1]) - begin;
-        const long pp = std::find (begin, end, side[j - 1]) - begin;
-        if (ps == d || pp == d)
-          continue; // not ring edges: this point gives no side information
-        for (long step = 1; (ps + step) % d != pp; ++step) {
-          const pcl::index_t w = begin[(ps + step) % d];
-          if (on_path[w])
-            continue;
-          if (label[w] >= 0 && label[w] != static_cast<int> (f))
-            ++result.num_side_conflicts;
-          else
-            label[w] = static_cast<int> (f);
-        }
-      }
     }
   }
+  for (std::size_t v = 0; v < n; ++v)
+    if (on_path[v])
+      label[v] = -1;
 
   growLabels (points, graph, on_path, label);
   growLabels (points, fallback_graph, on_path, label);

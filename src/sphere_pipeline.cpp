@@ -57,6 +57,22 @@ attemptRotation (int attempt)
   return q.normalized ().toRotationMatrix ();
 }
 
+/** The polyhedron with the next larger number of faces (after the largest, the
+  * smallest). */
+BasePolyhedron
+nextPolyhedron (BasePolyhedron polyhedron)
+{
+  switch (polyhedron) {
+  case BasePolyhedron::Tetrahedron:
+    return BasePolyhedron::Octahedron;
+  case BasePolyhedron::Octahedron:
+    return BasePolyhedron::Icosahedron;
+  case BasePolyhedron::Icosahedron:
+    break;
+  }
+  return BasePolyhedron::Tetrahedron;
+}
+
 } // namespace
 
 SphereTriangulation
@@ -110,11 +126,21 @@ triangulateSphere (const Points3& points,
 
   // Corners of D only where the ring surrounds the point and the mutual graph
   // offers several ways out: a sharp tip (all neighbours on one side) would leave
-  // no room for three or more paths in the right cyclic order.
+  // no room for three or more paths in the right cyclic order. And only in the
+  // largest component of the mutual graph, which the paths are routed in (thin
+  // parts whose rings disagree with the rest may form components of their own).
+  std::vector<pcl::index_t> mutual_component;
+  const std::size_t mutual_components = connectedComponents (mutual, mutual_component);
+  std::vector<std::size_t> mutual_size (mutual_components, 0);
+  for (auto c : mutual_component)
+    ++mutual_size[c];
+  const auto main_component = static_cast<pcl::index_t> (
+      std::max_element (mutual_size.begin (), mutual_size.end ()) - mutual_size.begin ());
   std::vector<char> corner_eligible (n, 0);
   std::size_t eligible_count = 0;
   for (std::size_t v = 0; v < n; ++v) {
-    corner_eligible[v] = ordered.largest_gap[v] < 0.9 * 3.14159265358979 && mutual.degree (v) >= 4;
+    corner_eligible[v] = ordered.largest_gap[v] < 0.9 * 3.14159265358979 && mutual.degree (v) >= 4 &&
+                         mutual_component[v] == main_component;
     eligible_count += corner_eligible[v];
   }
   if (eligible_count < 4)
@@ -132,10 +158,16 @@ triangulateSphere (const Points3& points,
   std::string last_problem;
   for (int attempt = 0; attempt < attempts; ++attempt) {
     stats.base_attempts = static_cast<std::size_t> (attempt + 1);
+    // Every second attempt tries the next polyhedron: other corners, and patches
+    // of another size, fail for other reasons than a mere rotation.
+    const BasePolyhedron polyhedron =
+        options.alternate_polyhedra && attempt % 2 == 1 ? nextPolyhedron (options.polyhedron)
+                                                        : options.polyhedron;
+    const int rotation = options.alternate_polyhedra ? attempt / 2 : attempt;
     const BaseMesh base = user_base ? options.user_base_mesh
-                                    : polyhedronBaseMesh (points, options.polyhedron,
-                                                          attemptRotation (attempt),
-                                                          corner_eligible);
+                                    : polyhedronBaseMesh (points, polyhedron,
+                                                          attemptRotation (rotation),
+                                                          corner_eligible, options.corners);
     if (base.faces.empty ()) {
       last_problem = "two base mesh directions picked the same point";
       continue;
@@ -146,7 +178,7 @@ triangulateSphere (const Points3& points,
       last_problem = paths.message;
       continue;
     }
-    const PatchSplit split = splitIntoPatches (points, mutual, graph, ordered.rings,
+    const PatchSplit split = splitIntoPatches (points, mutual, graph,
                                               weights.neighbours, base, paths);
     if (!split.success) {
       last_problem = split.message;
@@ -168,9 +200,15 @@ triangulateSphere (const Points3& points,
 
     const std::size_t faces = split.patches.size ();
     std::vector<PatchTriangulation> triangulated (faces);
+    PatchRingContext patch_rings;
+    patch_rings.points = &points;
+    patch_rings.candidates = &graph;
+    patch_rings.normals = &ordered.normals;
+    patch_rings.weights.type = options.weights;
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::ptrdiff_t f = 0; f < static_cast<std::ptrdiff_t> (faces); ++f)
-      triangulated[f] = triangulatePatch (points, weights, split.patches[f], options.solve);
+      triangulated[f] =
+          triangulatePatch (points, weights, split.patches[f], options.solve, &patch_rings);
     std::vector<Triangles> patch_triangles;
     bool all_patches = true;
     stats.smallest_parameter_edge = 1.0;

@@ -150,7 +150,7 @@ TEST (SpherePipeline, PathsAreSimpleDisjointAndRegionsPartitionTheRest)
 
   const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals);
   const PatchSplit split =
-      splitIntoPatches (points, mutual, graph, ordered.rings, weights.neighbours, base, paths);
+      splitIntoPatches (points, mutual, graph, weights.neighbours, base, paths);
   ASSERT_TRUE (split.success) << split.message;
   ASSERT_EQ (split.patches.size (), base.faces.size ());
   std::vector<int> interior_of (points.size (), 0);

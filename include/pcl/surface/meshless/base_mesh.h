@@ -30,9 +30,25 @@ enum class BasePolyhedron
   Icosahedron  ///< 20 faces: shorter paths, smaller and less distorted patches
 };
 
+/** \brief Which cloud point becomes the vertex of D for a direction w. */
+enum class CornerPlacement
+{
+  /** The point farthest along w, maximising <v - s, w> (the paper's choice, §4). On
+    * shapes with limbs it is the tip of a leg, ear or tail, where the three to five
+    * paths of the corner find no room. */
+  Farthest,
+  /** The point seen from the centroid s closest to the direction w, maximising
+    * <M (v - s), w> / |M (v - s)| with M = C^(-1/2), C the cloud's covariance:
+    * where the ray along w leaves the shape in the frame in which the cloud is as
+    * wide in every direction. Mostly on its bulk, since thin parts subtend small
+    * solid angles, and spread along an elongated shape as around a round one. */
+  AlongRays
+};
+
 /** \brief The base mesh of §4 generalised: for each vertex direction w_i of a
-  * regular polyhedron (rotated by `rotation`), the cloud point v maximising
-  * <v - s, w_i>, s the centroid; faces as in the polyhedron.
+  * regular polyhedron (rotated by `rotation`), a cloud point chosen by `placement`
+  * (by default the one maximising <v - s, w_i>, s the centroid); faces as in the
+  * polyhedron.
   * Faces are then oriented by the signed volume of the chosen points, so that D
   * turns the same way as the cloud's outward orientation.
   * \param[in] eligible optional per-point mask: only points marked non-zero may
@@ -45,7 +61,8 @@ BaseMesh
 polyhedronBaseMesh (const Points3& points,
                     BasePolyhedron polyhedron,
                     const Eigen::Matrix3d& rotation = Eigen::Matrix3d::Identity (),
-                    const std::vector<char>& eligible = {});
+                    const std::vector<char>& eligible = {},
+                    CornerPlacement placement = CornerPlacement::Farthest);
 
 /** \brief Check that D is a valid sphere-topology base mesh over n points: at least
   * 4 faces, distinct in-range vertices, every edge in exactly two faces used in

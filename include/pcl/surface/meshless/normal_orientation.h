@@ -31,8 +31,12 @@ struct NormalOrientation : StageStatus
   * along either normal: a kNN edge across a thin part joins two sides of the
   * surface whose outward normals are opposite, and |n_v . n_w| alone would rate it
   * best. Points the mutual graph does not reach are oriented afterwards through
-  * `graph`. Each ring whose normal is flipped is reversed, so that rings stay
-  * counter-clockwise around their (now consistent) normals.
+  * `graph`. The seed alone may sit in a thin part whose propagation goes astray
+  * (cow_igl: a hoof seed turned the whole body inwards), so each component's sign
+  * is finally settled by a vote: outward normals satisfy sum n_v . (v - c) A_v =
+  * 3 volume > 0 (divergence theorem), A_v estimated by the squared distance to the
+  * nearest neighbour. Each ring whose normal is flipped is reversed, so that rings
+  * stay counter-clockwise around their (now consistent) normals.
   * \param[in] points n points
   * \param[in] graph the symmetric neighbourhood graph G
   * \param[in] mutual the mutual ring graph (mutualRingGraph of the rings)

@@ -27,8 +27,8 @@ struct PatchSplit : StageStatus
   std::vector<Patch> patches;
   /** \brief Per point: the face whose interior it belongs to, or -1 on a path. */
   std::vector<int> face_of;
-  /** \brief Points next to a path claimed by two faces' sides (a sign of paths
-    * running close to each other); each went to the first. */
+  /** \brief Points next to a path claimed by both its sides (a sign of paths
+    * running close to each other; CutPaths::num_side_conflicts). */
   std::size_t num_side_conflicts = 0;
   /** \brief Interior points moved to a neighbouring face because their own face's
     * region did not connect them to its boundary. */
@@ -39,25 +39,24 @@ struct PatchSplit : StageStatus
   *
   * The paper grows the paths by rings until the rest falls apart into one component
   * per face; on a kNN graph, whose edges jump across paths, that count may never
-  * settle. Here each face is seeded directly instead: at every inner point of a
-  * path, the oriented ring says which neighbours lie left of the path (inside the
-  * face the path bounds counter-clockwise) and which lie right. From all seeds at
-  * once a multi-source Dijkstra assigns every other point to its nearest face (the
-  * paper's second step). A point that cannot reach its face's loop through the
-  * neighbours its parameter point depends on (the weights' neighbourhoods, within
-  * the face) is moved to a face it can reach, so that every patch's linear system
-  * is non-singular.
+  * settle. Here the cut paths already carry the regions they cut the surface into
+  * (CutPaths::face_of, seeded from the oriented rings on both sides of each path
+  * and grown inside the region the path split). Points those regions did not reach
+  * (parts joined to the rest only by edges of the fallback graph) join the nearest
+  * region by a multi-source Dijkstra, first in `graph`, then in `fallback_graph`.
+  * A point that cannot reach its face's loop through the neighbours its parameter
+  * point depends on (the weights' neighbourhoods, within the face) is moved to a
+  * face it can reach, so that every patch's linear system is non-singular.
   * \param[in] graph the graph regions grow in (the mutual ring graph)
   * \param[in] fallback_graph a graph for points the first does not reach (G)
-  * \param[in] rings rings counter-clockwise around outward-oriented normals
   * \param[in] dependencies each point's weight neighbourhood (Weights::neighbours)
+  * \param[in] paths cut paths with their regions (computeCutPaths)
   * \return fails if some point cannot be reached from any path (disconnected cloud)
   */
 PatchSplit
 splitIntoPatches (const Points3& points,
                   const CsrGraph& graph,
                   const CsrGraph& fallback_graph,
-                  const CsrGraph& rings,
                   const CsrGraph& dependencies,
                   const BaseMesh& base,
                   const CutPaths& paths);

@@ -44,6 +44,14 @@ struct SpherePipelineOptions
   /** \brief How many rotations of the polyhedron to try when paths cross or a
     * region cannot be formed. Default 12. */
   int max_base_attempts = 12;
+  /** \brief Whether every second attempt uses the next larger polyhedron
+    * (tetrahedron -> octahedron -> icosahedron -> tetrahedron) instead of the next
+    * rotation. Default true. */
+  bool alternate_polyhedra = true;
+  /** \brief How the polyhedron's directions pick the corners of D. Default:
+    * CornerPlacement::AlongRays (the paper's farthest points sit on the tips of
+    * limbs, where paths find no room). */
+  CornerPlacement corners = CornerPlacement::AlongRays;
   SolveOptions solve;
   ProgressCallback progress;
 };
