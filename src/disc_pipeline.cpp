@@ -9,6 +9,7 @@
 #include <pcl/surface/meshless/normal_orientation.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
 #include <pcl/surface/meshless/patch_triangulation.h>
+#include <pcl/surface/meshless/surface_graphs.h>
 
 #include <algorithm>
 #include <chrono>
@@ -156,29 +157,20 @@ triangulateDisc (const Points3& points,
     result.message = "an open surface needs at least three points";
     return result;
   }
-  const CsrGraph graph = symmetricGraph (neighbourhoods);
-  std::vector<pcl::index_t> component;
-  if (connectedComponents (graph, component) != 1) {
-    result.message = "the neighbourhood graph is disconnected (several pieces, outliers, or "
-                     "too few neighbours: increase k or the radius)";
+  const SurfaceGraphs surface = buildSurfaceGraphs (points, neighbourhoods, options.weights);
+  if (!surface.success) {
+    result.message = surface.message;
     return result;
   }
-  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-  const CsrGraph mutual = mutualRingGraph (ordered.rings);
-  const NormalOrientation orientation = orientNormals (points, graph, mutual, ordered);
-  if (!ordered.success || !orientation.success) {
-    result.message = ordered.success ? orientation.message : ordered.message;
-    return result;
-  }
-  const Weights weights =
-      computeWeights (points, ordered.rings, graph, ordered.normals, {options.weights});
+  const OrderedNeighbourhoods& ordered = surface.ordered;
+  const Weights& weights = surface.weights;
   if (!report ("rings and weights", 0.3, std::to_string (weights.num_fallbacks) + " fallbacks")) {
     result.message = "cancelled by the progress callback";
     return result;
   }
 
   const BoundaryLoops boundary =
-      findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap);
+      findBoundaryLoops (points, ordered.normals, ordered.rings, surface.mutual, ordered.largest_gap);
   if (!boundary.success) {
     result.message = boundary.message;
     return result;

@@ -9,6 +9,7 @@
 #include <pcl/surface/meshless/patch_split.h>
 #include <pcl/surface/meshless/patch_triangulation.h>
 #include <pcl/surface/meshless/sphere_pipeline.h>
+#include <pcl/surface/meshless/surface_graphs.h>
 
 #include <algorithm>
 #include <chrono>
@@ -93,36 +94,23 @@ triangulateSphere (const Points3& points,
     return result;
   }
 
-  const CsrGraph graph = symmetricGraph (neighbourhoods);
-  std::vector<pcl::index_t> component;
-  if (connectedComponents (graph, component) != 1) {
-    result.message = "the neighbourhood graph is disconnected (several objects, outliers, "
-                     "or too few neighbours: increase k or the radius)";
+  const double stage_fraction[] = {0.05, 0.15, 0.2}; // graph, rings, weights
+  int stage = 0;
+  SurfaceGraphs surface =
+      buildSurfaceGraphs (points, neighbourhoods, options.weights,
+                          [&] (const std::string& name, const std::string& detail) {
+                            return clock.done (name, stage_fraction[stage++], detail);
+                          });
+  if (!surface.success) {
+    result.message = surface.message;
     return result;
   }
-  if (!clock.done ("graph", 0.05, std::to_string (graph.numEntries () / 2) + " edges"))
-    return cancelled ();
-
-  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-  if (!ordered.success) {
-    result.message = ordered.message;
-    return result;
-  }
-  const CsrGraph mutual = mutualRingGraph (ordered.rings);
-  const NormalOrientation orientation = orientNormals (points, graph, mutual, ordered);
-  stats.normals_flipped = orientation.num_flipped;
-  if (!clock.done ("rings", 0.15, std::to_string (orientation.num_flipped) + " normals flipped"))
-    return cancelled ();
-
-  const Weights weights =
-      computeWeights (points, ordered.rings, graph, ordered.normals, {options.weights});
-  if (!weights.success) {
-    result.message = weights.message;
-    return result;
-  }
+  const CsrGraph& graph = surface.graph;
+  const OrderedNeighbourhoods& ordered = surface.ordered;
+  const CsrGraph& mutual = surface.mutual;
+  const Weights& weights = surface.weights;
+  stats.normals_flipped = surface.normals_flipped;
   stats.weight_fallbacks = weights.num_fallbacks;
-  if (!clock.done ("weights", 0.2, std::to_string (weights.num_fallbacks) + " fallbacks"))
-    return cancelled ();
 
   // Corners of D only where the ring surrounds the point and the mutual graph
   // offers several ways out: a sharp tip (all neighbours on one side) would leave

@@ -19,14 +19,6 @@ namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-CsrGraph
-directedKnn (const Points3& points, int k)
-{
-  // The symmetric brute-force graph is a superset of every N(v); the pipeline
-  // symmetrises again, so it serves as directed neighbourhoods here.
-  return meshless_test::bruteForceKnnGraph (points, k);
-}
-
 void
 expectDisc (const Points3& points, const DiscTriangulation& result, std::size_t holes = 0)
 {
@@ -79,10 +71,10 @@ TEST (DiscPipeline, DiscHeightFieldAndHemisphereAreManifoldDiscs)
 {
   for (SyntheticShape shape : {SyntheticShape::Disc, SyntheticShape::HeightField}) {
     const Points3 points = sampleShape (shape, {3000, 5, 0.0});
-    expectDisc (points, triangulateDisc (points, directedKnn (points, 12)));
+    expectDisc (points, triangulateDisc (points, meshless_test::bruteForceKnn (points, 12)));
   }
   const Points3 cap = hemisphere (2000);
-  expectDisc (cap, triangulateDisc (cap, directedKnn (cap, 12)));
+  expectDisc (cap, triangulateDisc (cap, meshless_test::bruteForceKnn (cap, 12)));
 }
 
 TEST (DiscPipeline, InvariantUnderRotationAndScale)
@@ -93,14 +85,14 @@ TEST (DiscPipeline, InvariantUnderRotationAndScale)
     Points3 points = sampleShape (SyntheticShape::HeightField, {2500, 8, 0.0});
     for (auto& p : points)
       p = scale * (rotation * p);
-    expectDisc (points, triangulateDisc (points, directedKnn (points, 12)));
+    expectDisc (points, triangulateDisc (points, meshless_test::bruteForceKnn (points, 12)));
   }
 }
 
 TEST (DiscPipeline, AClosedCloudHasNoBoundary)
 {
   const Points3 points = sampleShape (SyntheticShape::Sphere, {1500, 1, 0.0});
-  const DiscTriangulation result = triangulateDisc (points, directedKnn (points, 12));
+  const DiscTriangulation result = triangulateDisc (points, meshless_test::bruteForceKnn (points, 12));
   EXPECT_FALSE (result.success);
   EXPECT_NE (result.message.find ("no boundary loop"), std::string::npos) << result.message;
 }
@@ -112,7 +104,7 @@ TEST (DiscPipeline, AHoleIsKeptOpen)
   for (const auto& p : sampleShape (SyntheticShape::Disc, {4000, 3, 0.0}))
     if ((p.head<2> () - Eigen::Vector2d (0.2, 0.1)).norm () > 0.25)
       points.push_back (p);
-  expectDisc (points, triangulateDisc (points, directedKnn (points, 12)), 1);
+  expectDisc (points, triangulateDisc (points, meshless_test::bruteForceKnn (points, 12)), 1);
 }
 
 TEST (DiscPipeline, PclPartialViewsGiveAManifoldMeshOrAClearMessage)

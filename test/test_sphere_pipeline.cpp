@@ -16,27 +16,6 @@ using namespace pcl::meshless;
 
 namespace {
 
-/** Directed k-nearest neighbourhoods by brute force (what the conductor gets from
-  * PCL's search). */
-CsrGraph
-bruteForceNeighbourhoods (const Points3& points, int k)
-{
-  CsrGraph directed;
-  directed.offsets.push_back (0);
-  std::vector<std::pair<double, pcl::index_t>> d;
-  for (std::size_t v = 0; v < points.size (); ++v) {
-    d.clear ();
-    for (std::size_t w = 0; w < points.size (); ++w)
-      if (w != v)
-        d.emplace_back ((points[w] - points[v]).squaredNorm (), static_cast<pcl::index_t> (w));
-    std::partial_sort (d.begin (), d.begin () + k, d.end ());
-    for (int j = 0; j < k; ++j)
-      directed.adjacency.push_back (d[j].second);
-    directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
-  }
-  return directed;
-}
-
 /** The raw pipeline's promise is topological; after the edge-swap optimization
   * (the class's default) the embedding must be free of intersections too. */
 void
@@ -64,14 +43,14 @@ TEST (SpherePipeline, SyntheticShapesCloseUpWithEveryInvariant)
   for (SyntheticShape shape :
        {SyntheticShape::Sphere, SyntheticShape::Ellipsoid, SyntheticShape::BumpySphere}) {
     const Points3 points = sampleShape (shape, {3000, 7, 0.0});
-    expectClosedSphere (points, triangulateSphere (points, bruteForceNeighbourhoods (points, 12)));
+    expectClosedSphere (points, triangulateSphere (points, meshless_test::bruteForceKnn (points, 12)));
   }
 }
 
 TEST (SpherePipeline, EveryBasePolyhedronAndWeightTypeCloseUp)
 {
   const Points3 points = sampleShape (SyntheticShape::BumpySphere, {3000, 9, 0.0});
-  const CsrGraph nb = bruteForceNeighbourhoods (points, 12);
+  const CsrGraph nb = meshless_test::bruteForceKnn (points, 12);
   for (BasePolyhedron base :
        {BasePolyhedron::Tetrahedron, BasePolyhedron::Octahedron, BasePolyhedron::Icosahedron}) {
     SpherePipelineOptions options;
@@ -92,7 +71,7 @@ TEST (SpherePipeline, EveryBasePolyhedronAndWeightTypeCloseUp)
 TEST (SpherePipeline, DeterministicAndReportsEveryStage)
 {
   const Points3 points = sampleShape (SyntheticShape::Ellipsoid, {2500, 4, 0.0});
-  const CsrGraph nb = bruteForceNeighbourhoods (points, 12);
+  const CsrGraph nb = meshless_test::bruteForceKnn (points, 12);
   std::vector<std::string> stages;
   SpherePipelineOptions options;
   options.progress = [&] (const ProgressReport& r) {
@@ -169,14 +148,14 @@ TEST (SpherePipeline, PathsAreSimpleDisjointAndRegionsPartitionTheRest)
 TEST (SpherePipeline, TooFewPointsOrADisconnectedGraphIsAnError)
 {
   const Points3 three = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
-  EXPECT_FALSE (triangulateSphere (three, bruteForceNeighbourhoods (three, 2)).success);
+  EXPECT_FALSE (triangulateSphere (three, meshless_test::bruteForceKnn (three, 2)).success);
 
   Points3 two_spheres = sampleShape (SyntheticShape::Sphere, {800, 1, 0.0});
   const Points3 other = sampleShape (SyntheticShape::Sphere, {800, 2, 0.0});
   for (const auto& p : other)
     two_spheres.push_back (p + Eigen::Vector3d (10, 0, 0));
   const SphereTriangulation result =
-      triangulateSphere (two_spheres, bruteForceNeighbourhoods (two_spheres, 12));
+      triangulateSphere (two_spheres, meshless_test::bruteForceKnn (two_spheres, 12));
   EXPECT_FALSE (result.success);
   EXPECT_NE (result.message.find ("disconnected"), std::string::npos) << result.message;
 }

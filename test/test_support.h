@@ -41,10 +41,10 @@ sharedFile (const std::string& relative)
   if (var.empty ())                                                                    \
   GTEST_SKIP () << "shared data not found: " << relative
 
-/** The symmetric k-nearest-neighbour graph by brute force, for stage tests that
-  * must not depend on PCL's search (the conductor gets it through PCL). */
+/** Directed k nearest neighbourhoods by brute force, nearest first: what the
+  * conductor gets from PCL's search, for stage tests that must not depend on it. */
 inline pcl::meshless::CsrGraph
-bruteForceKnnGraph (const pcl::meshless::Points3& points, int k)
+bruteForceKnn (const pcl::meshless::Points3& points, int k)
 {
   pcl::meshless::CsrGraph directed;
   directed.offsets.push_back (0);
@@ -60,7 +60,14 @@ bruteForceKnnGraph (const pcl::meshless::Points3& points, int k)
       directed.adjacency.push_back (d[j].second);
     directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
   }
-  return pcl::meshless::symmetricGraph (directed);
+  return directed;
+}
+
+/** The symmetric k-nearest-neighbour graph G by brute force. */
+inline pcl::meshless::CsrGraph
+bruteForceKnnGraph (const pcl::meshless::Points3& points, int k)
+{
+  return pcl::meshless::symmetricGraph (bruteForceKnn (points, k));
 }
 
 } // namespace meshless_test
