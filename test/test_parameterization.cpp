@@ -1,11 +1,13 @@
 // Meshless parameterization of a disc patch: boundary on a convex polygon, the
 // sparse system, its solution.
+#include <pcl/surface/meshless/delaunay_2d.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
 #include <pcl/surface/meshless/parameterization.h>
 #include <pcl/surface/meshless/weights.h>
 
 #include "test_support.h"
 
+#include <algorithm>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -136,6 +138,22 @@ TEST (Parameterization, LinearPrecisionOnAPlaneWithItsOwnBoundary)
       ASSERT_TRUE (result.success) << result.message;
       for (std::size_t i = 0; i < patch.points.size (); ++i)
         EXPECT_LT ((result.uv[i] - patch.points[i].head<2> ()).norm (), 1e-9) << "point " << i;
+
+      // ... so the triangulation of the parameter points is the planar Delaunay
+      // triangulation of the points themselves.
+      Points2 planar;
+      for (const auto& p : patch.points)
+        planar.push_back (p.head<2> ());
+      auto canonical = [] (Triangles triangles) {
+        for (auto& t : triangles)
+          std::rotate (t.begin (), std::min_element (t.begin (), t.end ()), t.end ());
+        std::sort (triangles.begin (), triangles.end ());
+        return triangles;
+      };
+      const Delaunay2DResult from_map = delaunay2D (result.uv);
+      const Delaunay2DResult from_plane = delaunay2D (planar);
+      ASSERT_TRUE (from_map.success && from_plane.success);
+      EXPECT_EQ (canonical (from_map.triangles), canonical (from_plane.triangles));
     }
 }
 
