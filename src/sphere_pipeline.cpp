@@ -100,7 +100,8 @@ triangulateSphere (const Points3& points,
       buildSurfaceGraphs (points, neighbourhoods, options.weights,
                           [&] (const std::string& name, const std::string& detail) {
                             return clock.done (name, stage_fraction[stage++], detail);
-                          });
+                          },
+                          options.separate_thin_sheets);
   if (!surface.success) {
     result.message = surface.message;
     return result;

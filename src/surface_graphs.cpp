@@ -9,11 +9,45 @@
 namespace pcl {
 namespace meshless {
 
+namespace {
+
+/** Drops the edges whose oriented normals point away from each other and orders
+  * the rings again on the rest (see buildSurfaceGraphs); leaves everything as it
+  * is if that would disconnect the graph. */
+void
+separateThinSheets (const Points3& points, std::vector<pcl::index_t>& component, SurfaceGraphs& surface)
+{
+  CsrGraph kept;
+  kept.offsets.assign (surface.graph.size () + 1, 0);
+  std::size_t dropped = 0;
+  for (std::size_t v = 0; v < surface.graph.size (); ++v) {
+    for (const pcl::index_t* w = surface.graph.begin (v); w != surface.graph.end (v); ++w) {
+      if (surface.ordered.normals[v].dot (surface.ordered.normals[*w]) < 0.0f)
+        ++dropped;
+      else
+        kept.adjacency.push_back (*w);
+    }
+    kept.offsets[v + 1] = static_cast<pcl::index_t> (kept.adjacency.size ());
+  }
+  if (dropped == 0 || connectedComponents (kept, component) != 1)
+    return;
+  surface.sheet_edges_dropped = dropped / 2;
+  surface.graph = std::move (kept);
+  surface.ordered = orderNeighbourhoods (points, surface.graph);
+  if (!surface.ordered.success)
+    return;
+  surface.mutual = mutualRingGraph (surface.ordered.rings);
+  orientNormals (points, surface.graph, surface.mutual, surface.ordered);
+}
+
+} // namespace
+
 SurfaceGraphs
 buildSurfaceGraphs (const Points3& points,
                     const CsrGraph& neighbourhoods,
                     WeightType weights,
-                    const SurfaceStageDone& done)
+                    const SurfaceStageDone& done,
+                    bool separate_thin_sheets)
 {
   SurfaceGraphs result;
   auto report = [&] (const std::string& stage, const std::string& detail) {
@@ -46,7 +80,16 @@ buildSurfaceGraphs (const Points3& points,
     return result;
   }
   result.normals_flipped = orientation.num_flipped;
-  if (!report ("rings", std::to_string (orientation.num_flipped) + " normals flipped"))
+  if (separate_thin_sheets)
+    separateThinSheets (points, component, result);
+  if (!result.ordered.success) {
+    result.message = result.ordered.message;
+    return result;
+  }
+  if (!report ("rings", std::to_string (orientation.num_flipped) + " normals flipped" +
+                            (separate_thin_sheets ? ", " + std::to_string (result.sheet_edges_dropped) +
+                                                        " edges across thin parts dropped"
+                                                  : std::string ())))
     return result;
 
   result.weights = computeWeights (points, result.ordered.rings, result.graph,

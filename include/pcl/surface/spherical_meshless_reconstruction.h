@@ -38,6 +38,9 @@ struct SphericalMeshlessReport
   meshless::SpherePipelineStats stats;
   /** \brief Disc topology: inner boundary loops (holes) kept open. */
   std::size_t holes = 0;
+  /** \brief The result comes from the second attempt with thin parts separated
+    * (the first one intersected itself more). */
+  bool thin_sheet_retry = false;
   /** \brief The edge-swap optimization (when enabled). */
   meshless::EdgeSwapResult optimization;
   /** \brief The check of the output mesh (valid when the pipeline produced one). */

@@ -135,6 +135,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     return fail ("cancelled by the progress callback");
 
   meshless::Triangles triangles;
+  meshless::SpherePipelineOptions sphere_options; // kept for a second attempt
   if (sphere) {
     meshless::SpherePipelineOptions options;
     options.weights = weights_;
@@ -163,6 +164,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     if (!result.success)
       return fail ("the spherical reconstruction failed: " + result.message);
     triangles = std::move (result.triangles);
+    sphere_options = options;
   }
   else {
     meshless::DiscPipelineOptions options;
@@ -175,40 +177,68 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     triangles = std::move (result.triangles);
   }
 
-  if (optimize_) {
-    const auto optimize_start = std::chrono::steady_clock::now ();
-    report_.optimization = meshless::optimizeBySwaps (points, triangles, swap_options_);
-    if (!report_.optimization.success)
-      return fail ("the edge-swap optimization failed: " + report_.optimization.message +
-                   " (setOptimize (false) skips it)");
-    if (!record ({"optimize", 0.95,
-                  std::chrono::duration<double> (std::chrono::steady_clock::now () - optimize_start)
-                      .count (),
-                  std::to_string (report_.optimization.swaps) + " swaps"}))
-      return fail ("cancelled by the progress callback");
-  }
+  // Optimization and the class's own check of its result before it reports
+  // success; an empty string, or what is wrong.
+  auto optimizeAndCheck = [&] (meshless::Triangles& mesh_triangles,
+                               meshless::EdgeSwapResult& optimization,
+                               meshless::MeshReport& mesh) -> std::string {
+    if (optimize_) {
+      const auto optimize_start = std::chrono::steady_clock::now ();
+      optimization = meshless::optimizeBySwaps (points, mesh_triangles, swap_options_);
+      if (!optimization.success)
+        return "the edge-swap optimization failed: " + optimization.message +
+               " (setOptimize (false) skips it)";
+      if (!record ({"optimize", 0.95,
+                    std::chrono::duration<double> (std::chrono::steady_clock::now () - optimize_start)
+                        .count (),
+                    std::to_string (optimization.swaps) + " swaps"}))
+        return "cancelled by the progress callback";
+    }
+    const auto check_start = std::chrono::steady_clock::now ();
+    meshless::MeshCheckOptions check;
+    check.check_self_intersections = check_self_intersections_;
+    mesh = meshless::checkMesh (points, mesh_triangles, check);
+    record ({"check", 1.0,
+             std::chrono::duration<double> (std::chrono::steady_clock::now () - check_start).count (),
+             ""});
+    const bool valid =
+        sphere ? mesh.isSphereLike () && mesh_triangles.size () == 2 * n - 4 && mesh.signed_volume > 0.0
+               : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
+                     mesh.boundary_loops == 1 + report_.holes &&
+                     mesh.euler_characteristic == 1 - static_cast<long> (report_.holes);
+    if (!valid || mesh.unused_vertices != 0)
+      return "the result failed its own check (a bug; please report it with the cloud): " +
+             meshless::describe (mesh);
+    return "";
+  };
+  const std::string problem = optimizeAndCheck (triangles, report_.optimization, report_.mesh);
+  if (!problem.empty ())
+    return fail (problem);
 
-  // The class's own check of its result before it reports success.
-  const auto check_start = std::chrono::steady_clock::now ();
-  meshless::MeshCheckOptions check;
-  check.check_self_intersections = check_self_intersections_;
-  report_.mesh = meshless::checkMesh (points, triangles, check);
-  record ({"check", 1.0,
-           std::chrono::duration<double> (std::chrono::steady_clock::now () - check_start).count (),
-           ""});
-  const meshless::MeshReport& mesh = report_.mesh;
-  const bool valid =
-      sphere ? mesh.isSphereLike () && triangles.size () == 2 * n - 4 && mesh.signed_volume > 0.0
-             : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
-                   mesh.boundary_loops == 1 + report_.holes &&
-                   mesh.euler_characteristic == 1 - static_cast<long> (report_.holes);
-  if (!valid || mesh.unused_vertices != 0)
-    return fail ("the result failed its own check (a bug; please report it with the cloud): " +
-                 meshless::describe (mesh));
-  if (mesh.self_intersecting_pairs > 0)
+  // Where the surface is thinner than the point spacing, kNN edges join its two
+  // sides and the patches fold there. If the result intersects itself, try again
+  // with those edges dropped (see meshless::buildSurfaceGraphs) and keep the result
+  // with fewer intersecting pairs; a failed second attempt changes nothing.
+  if (sphere && report_.mesh.self_intersecting_pairs > 0) {
+    sphere_options.separate_thin_sheets = true;
+    meshless::SphereTriangulation second =
+        meshless::triangulateSphere (points, nb.neighbours, sphere_options);
+    meshless::EdgeSwapResult optimization;
+    meshless::MeshReport mesh;
+    if (second.success && optimizeAndCheck (second.triangles, optimization, mesh).empty () &&
+        mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs) {
+      triangles = std::move (second.triangles);
+      report_.stats = second.stats;
+      report_.optimization = optimization;
+      report_.mesh = mesh;
+      report_.thin_sheet_retry = true;
+    }
+  }
+  if (report_.mesh.self_intersecting_pairs > 0)
     PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect (noisy or thin "
               "input); the mesh is %s and oriented all the same\n",
-              getClassName ().c_str (), mesh.self_intersecting_pairs, sphere ? "closed" : "manifold");
+              getClassName ().c_str (), report_.mesh.self_intersecting_pairs,
+              sphere ? "closed" : "manifold");
 
   polygons.resize (triangles.size ());
   for (std::size_t t = 0; t < triangles.size (); ++t) {

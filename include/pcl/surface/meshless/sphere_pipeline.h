@@ -52,6 +52,9 @@ struct SpherePipelineOptions
     * CornerPlacement::AlongRays (the paper's farthest points sit on the tips of
     * limbs, where paths find no room). */
   CornerPlacement corners = CornerPlacement::AlongRays;
+  /** \brief Drop kNN edges across parts thinner than the point spacing before
+    * cutting (see buildSurfaceGraphs). Default false. */
+  bool separate_thin_sheets = false;
   SolveOptions solve;
   ProgressCallback progress;
 };
