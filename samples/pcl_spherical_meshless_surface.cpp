@@ -5,10 +5,8 @@
 // (x y z per line), or -generate SHAPE[:N] for one of the project's own clouds.
 // OUTPUT is .ply (binary), .vtk or .obj. Prints stage timings and the triangle
 // count; exits 0 on success, otherwise 1 with a one-line reason on stderr.
-#include <pcl/io/obj_io.h>
-#include <pcl/io/pcd_io.h>
-#include <pcl/io/ply_io.h>
-#include <pcl/io/vtk_io.h>
+#include "cloud_io.h"
+
 #include <pcl/point_types.h>
 #include <pcl/surface/meshless/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
@@ -16,14 +14,13 @@
 #include <omp.h>
 
 #include <chrono>
-#include <cstring>
 #include <cstdio>
-#include <fstream>
-#include <sstream>
 #include <string>
 
 namespace {
 
+using meshless_tools::loadCloud;
+using meshless_tools::saveMesh;
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Clock = std::chrono::steady_clock;
 
@@ -46,97 +43,6 @@ usage (const char* program)
       "  -base B              tetrahedron|octahedron|icosahedron (default tetrahedron)\n"
       "  -threads N           worker threads (default: all cores)\n",
       program, program);
-}
-
-bool
-endsWith (const std::string& s, const std::string& suffix)
-{
-  return s.size () >= suffix.size () &&
-         s.compare (s.size () - suffix.size (), suffix.size (), suffix) == 0;
-}
-
-/** x, y, z of every point of a PLY file whose coordinates are float or double
-  * (pcl::fromPCLPointCloud2 converts only matching types, and many meshes store
-  * doubles). Returns an empty string or the reason it failed. */
-std::string
-loadPlyPoints (const std::string& path, Cloud& cloud)
-{
-  pcl::PCLPointCloud2 blob;
-  if (pcl::io::loadPLYFile (path, blob) != 0)
-    return "cannot read PLY file " + path;
-  const pcl::PCLPointField* xyz[3] = {nullptr, nullptr, nullptr};
-  for (const auto& field : blob.fields)
-    for (int axis = 0; axis < 3; ++axis)
-      if (field.name == std::string (1, "xyz"[axis]))
-        xyz[axis] = &field;
-  for (const auto* field : xyz)
-    if (!field || (field->datatype != pcl::PCLPointField::FLOAT32 &&
-                   field->datatype != pcl::PCLPointField::FLOAT64))
-      return path + ": needs float or double x, y and z properties";
-  const std::size_t count = static_cast<std::size_t> (blob.width) * blob.height;
-  cloud.resize (count);
-  for (std::size_t i = 0; i < count; ++i) {
-    const std::uint8_t* point = blob.data.data () + i * blob.point_step;
-    for (int axis = 0; axis < 3; ++axis) {
-      const std::uint8_t* at = point + xyz[axis]->offset;
-      float value;
-      if (xyz[axis]->datatype == pcl::PCLPointField::FLOAT32)
-        std::memcpy (&value, at, sizeof (float));
-      else {
-        double wide;
-        std::memcpy (&wide, at, sizeof (double));
-        value = static_cast<float> (wide);
-      }
-      cloud[i].data[axis] = value;
-    }
-  }
-  cloud.is_dense = false;
-  return "";
-}
-
-/** Loads INPUT by extension; returns an empty string or the reason it failed. */
-std::string
-loadCloud (const std::string& path, Cloud& cloud)
-{
-  if (endsWith (path, ".pcd"))
-    return pcl::io::loadPCDFile (path, cloud) == 0 ? "" : "cannot read PCD file " + path;
-  if (endsWith (path, ".ply"))
-    return loadPlyPoints (path, cloud);
-  if (endsWith (path, ".xyz")) {
-    std::ifstream in (path);
-    if (!in)
-      return "cannot open " + path;
-    std::string line;
-    std::size_t number = 0;
-    while (std::getline (in, line)) {
-      ++number;
-      if (line.empty () || line[0] == '#')
-        continue;
-      std::istringstream fields (line);
-      float x, y, z;
-      if (!(fields >> x >> y >> z))
-        return path + ":" + std::to_string (number) + ": expected three numbers";
-      cloud.push_back (pcl::PointXYZ (x, y, z));
-    }
-    cloud.is_dense = false; // may hold nan/inf written as text
-    return "";
-  }
-  return "unknown input format (expected .pcd, .ply or .xyz): " + path;
-}
-
-std::string
-saveMesh (const std::string& path, const pcl::PolygonMesh& mesh)
-{
-  int status = -1;
-  if (endsWith (path, ".ply"))
-    status = pcl::io::savePLYFileBinary (path, mesh);
-  else if (endsWith (path, ".vtk"))
-    status = pcl::io::saveVTKFile (path, mesh);
-  else if (endsWith (path, ".obj"))
-    status = pcl::io::saveOBJFile (path, mesh);
-  else
-    return "unknown output format (expected .ply, .vtk or .obj): " + path;
-  return status == 0 ? "" : "cannot write " + path;
 }
 
 double

@@ -1,0 +1,152 @@
+// Greedy projection and pcl::SphericalMeshlessReconstruction timed on the same clouds:
+// generated bumpy spheres of 10k and 100k points and, when present, the shared clouds
+// (../shared/data/clouds or $MESHLESS_DATA_DIR/clouds). Each benchmark reports points
+// per second; at the end the time ratio spherical / greedy per cloud, measured in the
+// same run. Greedy projection's time includes its normal estimation, both include
+// building the search tree.
+#include "cloud_io.h"
+#include "greedy_projection.h"
+
+#include <pcl/console/print.h>
+#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
+
+#include <benchmark/benchmark.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <string>
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+
+Cloud::Ptr
+bumpySphere (std::size_t points)
+{
+  pcl::meshless::SyntheticCloudOptions options;
+  options.num_points = points;
+  auto cloud = pcl::make_shared<Cloud> ();
+  for (const auto& p :
+       pcl::meshless::sampleShape (pcl::meshless::SyntheticShape::BumpySphere, options))
+    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()),
+                                     static_cast<float> (p.y ()),
+                                     static_cast<float> (p.z ())));
+  return cloud;
+}
+
+void
+setRate (benchmark::State& state, std::size_t points)
+{
+  state.counters["points/s"] = benchmark::Counter (
+      static_cast<double> (points), benchmark::Counter::kIsIterationInvariantRate);
+}
+
+void
+greedy (benchmark::State& state, const Cloud::ConstPtr& cloud)
+{
+  for (auto _ : state) {
+    auto tree = pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>> ();
+    tree->setInputCloud (cloud);
+    // The radius derivation is part of using greedy projection on an unknown cloud.
+    const auto parameters = meshless_tools::greedyParameters (*tree, *cloud);
+    pcl::PolygonMesh mesh;
+    meshless_tools::greedyProjection (cloud, tree, parameters, mesh);
+    if (mesh.polygons.empty ())
+      state.SkipWithError ("greedy projection made no triangle");
+    benchmark::DoNotOptimize (mesh);
+  }
+  setRate (state, cloud->size ());
+}
+
+void
+spherical (benchmark::State& state, const Cloud::ConstPtr& cloud)
+{
+  for (auto _ : state) {
+    pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+    reconstruction.setInputCloud (cloud);
+    pcl::PolygonMesh mesh;
+    reconstruction.reconstruct (mesh);
+    if (!reconstruction.getReport ().success)
+      state.SkipWithError (reconstruction.getReport ().message.c_str ());
+    benchmark::DoNotOptimize (mesh);
+  }
+  setRate (state, cloud->size ());
+}
+
+void
+registerCloud (const std::string& name, const Cloud::ConstPtr& cloud)
+{
+  for (const char* method : {"greedy", "spherical"})
+    benchmark::RegisterBenchmark ((std::string (method) + "/" + name).c_str (),
+                                  method[0] == 'g' ? greedy : spherical, cloud)
+        ->Unit (benchmark::kMillisecond)
+        ->UseRealTime ();
+}
+
+/** The console output, then the ratio of the two methods' times on each cloud. */
+class RatioReporter : public benchmark::ConsoleReporter
+{
+public:
+  void
+  ReportRuns (const std::vector<Run>& runs) override
+  {
+    ConsoleReporter::ReportRuns (runs);
+    for (const Run& run : runs)
+      if (run.run_type == Run::RT_Iteration && !run.error_occurred) {
+        // "greedy/bunny_igl/real_time" -> method "greedy", cloud "bunny_igl".
+        const std::string name = run.benchmark_name ();
+        const auto slash = name.find ('/');
+        const auto end = name.find ('/', slash + 1);
+        seconds_[name.substr (slash + 1, end - slash - 1)][name.substr (0, slash)] =
+            run.GetAdjustedRealTime ();
+      }
+  }
+
+  void
+  Finalize () override
+  {
+    ConsoleReporter::Finalize ();
+    std::printf ("\ntime ratio spherical / greedy (same run):\n");
+    for (const auto& [cloud, times] : seconds_)
+      if (times.count ("greedy") && times.count ("spherical"))
+        std::printf ("  %-24s %6.2f\n", cloud.c_str (),
+                     times.at ("spherical") / times.at ("greedy"));
+  }
+
+private:
+  /** Real time per iteration by cloud, then by method. */
+  std::map<std::string, std::map<std::string, double>> seconds_;
+};
+
+} // namespace
+
+int
+main (int argc, char** argv)
+{
+  benchmark::Initialize (&argc, argv);
+  if (benchmark::ReportUnrecognizedArguments (argc, argv))
+    return 1;
+  // The reconstruction's warnings (self-intersections on thin parts) would repeat once
+  // per iteration between the timing lines.
+  pcl::console::setVerbosityLevel (pcl::console::L_ERROR);
+  for (const std::size_t points : {10000, 100000})
+    registerCloud ("bumpy_sphere_" + std::to_string (points / 1000) + "k",
+                   bumpySphere (points));
+  const char* data = std::getenv ("MESHLESS_DATA_DIR");
+  const std::filesystem::path clouds =
+      std::filesystem::path (data ? data : MESHLESS_SHARED_DATA_DIR) / "clouds";
+  for (const char* name : {"bunny_igl", "fandisk_6475", "armadillo_igl"}) {
+    const std::string path = (clouds / (std::string (name) + ".pcd")).string ();
+    auto cloud = pcl::make_shared<Cloud> ();
+    if (std::filesystem::exists (path) &&
+        meshless_tools::loadCloud (path, *cloud).empty ())
+      registerCloud (name, cloud);
+  }
+  RatioReporter reporter;
+  benchmark::RunSpecifiedBenchmarks (&reporter);
+  benchmark::Shutdown ();
+  return 0;
+}
