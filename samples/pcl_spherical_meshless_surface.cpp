@@ -151,12 +151,15 @@ main (int argc, char** argv)
       return fail ("unknown shape '" + generate.substr (0, colon) + "' (see -h)");
     pcl::meshless::SyntheticCloudOptions options;
     options.num_points = 20000;
-    try {
-      if (colon != std::string::npos)
-        options.num_points = std::stoul (generate.substr (colon + 1));
-    }
-    catch (const std::exception&) {
-      return fail ("the point count after ':' must be a number");
+    if (colon != std::string::npos) {
+      // std::stoul would take "-1" as the largest count: accept digits only.
+      const std::string count = generate.substr (colon + 1);
+      constexpr std::size_t max_points = 100000000;
+      if (count.empty () || count.size () > 9 ||
+          count.find_first_not_of ("0123456789") != std::string::npos)
+        return fail ("the point count after ':' must be a whole number up to " +
+                     std::to_string (max_points));
+      options.num_points = std::stoul (count);
     }
     for (const auto& p : pcl::meshless::sampleShape (shape, options))
       cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),

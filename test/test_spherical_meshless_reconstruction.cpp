@@ -189,7 +189,8 @@ TEST (SphericalMeshlessReconstruction, BadInputGivesAnEmptyResultAndAReason)
 
   // Two spheres far apart: the graph is disconnected.
   auto two = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 1000);
-  for (const auto& p : *generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 1000, 2))
+  const auto other = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 1000, 2);
+  for (const auto& p : *other)
     two->push_back (pcl::PointXYZ (p.x + 10.0f, p.y, p.z));
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> fresh;
   fresh.setInputCloud (two);

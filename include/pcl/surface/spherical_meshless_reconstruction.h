@@ -90,7 +90,6 @@ public:
   using MeshConstruction<PointInT>::input_;
   using MeshConstruction<PointInT>::indices_;
   using MeshConstruction<PointInT>::tree_;
-  using MeshConstruction<PointInT>::reconstruct;
 
   /** \brief The topology of the surface the cloud samples. */
   enum class Topology
@@ -229,6 +228,17 @@ public:
     return check_self_intersections_;
   }
 
+  /** \brief Reconstruct a mesh over the input cloud (all of it, as
+    * MeshConstruction does); see the class description.
+    * \note The input and the indices are checked before anything else: no input
+    *       cloud or an index outside it gives PCL_ERROR and an empty mesh. */
+  void
+  reconstruct (pcl::PolygonMesh& output) override;
+
+  /** \brief Reconstruct the triangles only, as indices into the input cloud. */
+  void
+  reconstruct (std::vector<pcl::Vertices>& polygons) override;
+
   /** \brief What the last reconstruct() did. */
   inline const SphericalMeshlessReport&
   getReport () const
@@ -250,6 +260,12 @@ protected:
   performReconstruction (std::vector<pcl::Vertices>& polygons) override;
 
 private:
+  /** \brief False (with report_ and PCL_ERROR saying why) when there is no input
+    * cloud or an index lies outside it: checked before PCL's base class builds the
+    * search tree over them, which would crash on such indices. */
+  bool
+  inputIsUsable ();
+
   /** \brief Runs the pipeline; fills report_ and, on success, polygons over
     * indices of the input cloud. */
   bool

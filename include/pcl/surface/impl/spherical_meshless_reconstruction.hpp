@@ -9,12 +9,54 @@
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
+#include <Eigen/Eigenvalues> // SelfAdjointEigenSolver
+
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numeric>
 
 namespace pcl {
+
+template <typename PointInT>
+bool
+SphericalMeshlessReconstruction<PointInT>::inputIsUsable ()
+{
+  report_ = SphericalMeshlessReport ();
+  if (!input_)
+    report_.message = "no input cloud (setInputCloud)";
+  else if (indices_)
+    for (const auto i : *indices_)
+      if (i < 0 || static_cast<std::size_t> (i) >= input_->size ()) {
+        report_.message = "an index lies outside the input cloud (setIndices)";
+        break;
+      }
+  if (report_.message.empty ())
+    return true;
+  PCL_ERROR ("[pcl::%s::reconstruct] %s\n", getClassName ().c_str (), report_.message.c_str ());
+  return false;
+}
+
+template <typename PointInT>
+void
+SphericalMeshlessReconstruction<PointInT>::reconstruct (pcl::PolygonMesh& output)
+{
+  if (!inputIsUsable ()) {
+    output.polygons.clear ();
+    output.cloud = pcl::PCLPointCloud2 ();
+    return;
+  }
+  MeshConstruction<PointInT>::reconstruct (output);
+}
+
+template <typename PointInT>
+void
+SphericalMeshlessReconstruction<PointInT>::reconstruct (std::vector<pcl::Vertices>& polygons)
+{
+  polygons.clear ();
+  if (inputIsUsable ())
+    MeshConstruction<PointInT>::reconstruct (polygons);
+}
 
 template <typename PointInT>
 void
@@ -110,6 +152,26 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   meshless::Points3 points (n);
   for (std::size_t i = 0; i < n; ++i)
     points[i] = (*input_)[cloud_indices[i]].getVector3fMap ().template cast<double> () - centroid;
+
+  // Issue 7: a cloud with no extent in some direction (all points on one plane or
+  // one line) encloses no volume. Without this check the pipeline either failed in
+  // the base mesh ("two base mesh directions picked the same point") or built a flat,
+  // self-intersecting closed mesh that only the final check rejected as "a bug".
+  // The bound is relative (1e-12 of the largest variance, i.e. 1e-6 of the extent),
+  // far below any real object's thickness and above float rounding of a tilted plane.
+  if (sphere) {
+    Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero ();
+    for (const auto& p : points)
+      covariance += p * p.transpose ();
+    const Eigen::Vector3d variances =
+        Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> (covariance, Eigen::EigenvaluesOnly)
+            .eigenvalues (); // ascending
+    if (!(variances[0] > 1e-12 * variances[2]))
+      return fail (std::string ("all points lie ") +
+                   (variances[1] > 1e-12 * variances[2] ? "in one plane" : "on one line") +
+                   ": there is no closed surface through them (for a flat open surface use "
+                   "setTopology (Topology::Disc))");
+  }
 
   ProgressCallback record = [this] (const meshless::ProgressReport& stage) {
     report_.stage_seconds.emplace_back (stage.stage, stage.seconds);
