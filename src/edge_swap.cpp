@@ -356,18 +356,27 @@ public:
       if (top.stamp != heap_stamp_[top.edge])
         continue;
       Quad q;
-      if (!quadOf (edge_he_[top.edge], q) || !feasible (q))
-        continue;
-      std::size_t pairs = 0;
-      if (grid_) {
-        const auto [before, after] = intersectionChange (q);
-        if (after > before)
-          continue;
-        intersections_ -= before - after;
-        pairs = after;
-      }
-      applySwap (q, pairs);
+      if (quadOf (edge_he_[top.edge], q) && feasible (q))
+        swapUnlessMoreIntersections (q);
     }
+  }
+
+  /** Makes the admissible swap q unless its new triangles would take part in more
+    * intersecting pairs than the old ones (without intersection bookkeeping it
+    * always swaps); returns whether it swapped. */
+  bool
+  swapUnlessMoreIntersections (const Quad& q)
+  {
+    std::size_t pairs = 0;
+    if (grid_) {
+      const auto [before, after] = intersectionChange (q);
+      if (after > before)
+        return false;
+      intersections_ -= before - after;
+      pairs = after;
+    }
+    applySwap (q, pairs);
+    return true;
   }
 
   /** Swaps edges of triangles in intersecting pairs while that strictly lowers the
@@ -442,15 +451,8 @@ public:
       const Vec3 n0 = normal (a, d, c), n1 = normal (d, b, c);
       if (n0.dot (n1) < cos_flat * n0.norm () * n1.norm ())
         continue;
-      std::size_t pairs = 0;
-      if (grid_) {
-        const auto [before, after] = intersectionChange (q);
-        if (after > before)
-          continue;
-        intersections_ -= before - after;
-        pairs = after;
-      }
-      applySwap (q, pairs);
+      if (!swapUnlessMoreIntersections (q))
+        continue;
       --budget;
       for (const std::int32_t h : {3 * q.t0, 3 * q.t0 + 1, 3 * q.t1, 3 * q.t1 + 1})
         work.push_back (edge_of_[h]);
