@@ -143,7 +143,7 @@ buildMeshlessSystem (const Weights& weights,
   std::vector<Eigen::Triplet<double>> entries;
   entries.reserve (unknowns * 8);
   system.rhs = Eigen::MatrixX2d::Zero (static_cast<Eigen::Index> (unknowns), 2);
-  std::vector<std::vector<pcl::index_t>> depends_on_me (m); // reverse edges, for reachability
+  std::vector<char> touches_boundary (unknowns, 0); // a weight on a boundary point
   std::vector<pcl::index_t> row_points, inside_candidates;
   std::vector<double> row_weights;
   Points2 local_ring;
@@ -203,30 +203,34 @@ buildMeshlessSystem (const Weights& weights,
       const pcl::index_t w = local_of.at (row_points[j]);
       if (lambda == 0.0 || w == local)
         continue;
-      depends_on_me[w].push_back (local);
-      if (boundary_slot[w] >= 0)
+      if (boundary_slot[w] >= 0) {
         system.rhs.row (row) += lambda * boundary_uv[boundary_slot[w]].transpose ();
+        touches_boundary[row] = 1;
+      }
       else
         entries.emplace_back (row, system.unknown_of[w], -lambda);
     }
   }
 
+  system.matrix.resize (static_cast<Eigen::Index> (unknowns), static_cast<Eigen::Index> (unknowns));
+  system.matrix.setFromTriplets (entries.begin (), entries.end ());
+
   // Non-singular iff every interior point reaches the boundary along directed
-  // weight edges: search backwards from the boundary.
-  std::vector<char> reaches (m, 0);
-  std::vector<pcl::index_t> stack;
-  for (std::size_t i = 0; i < m; ++i)
-    if (boundary_slot[i] >= 0) {
-      reaches[i] = 1;
-      stack.push_back (static_cast<pcl::index_t> (i));
-    }
+  // weight edges. Search backwards from the rows with a boundary weight; column j
+  // of the matrix lists the rows that depend on unknown j.
+  const Eigen::SparseMatrix<double, Eigen::ColMajor> by_column = system.matrix;
+  std::vector<char> reaches (touches_boundary);
+  std::vector<Eigen::Index> stack;
+  for (std::size_t row = 0; row < unknowns; ++row)
+    if (reaches[row])
+      stack.push_back (static_cast<Eigen::Index> (row));
   while (!stack.empty ()) {
-    const pcl::index_t j = stack.back ();
+    const Eigen::Index j = stack.back ();
     stack.pop_back ();
-    for (pcl::index_t i : depends_on_me[j])
-      if (!reaches[i]) {
-        reaches[i] = 1;
-        stack.push_back (i);
+    for (Eigen::SparseMatrix<double, Eigen::ColMajor>::InnerIterator it (by_column, j); it; ++it)
+      if (!reaches[it.row ()]) {
+        reaches[it.row ()] = 1;
+        stack.push_back (it.row ());
       }
   }
   std::size_t cut_off = 0;
@@ -238,9 +242,6 @@ buildMeshlessSystem (const Weights& weights,
                      "patch is disconnected; increase k or the radius)";
     return system;
   }
-
-  system.matrix.resize (static_cast<Eigen::Index> (unknowns), static_cast<Eigen::Index> (unknowns));
-  system.matrix.setFromTriplets (entries.begin (), entries.end ());
   system.success = true;
   return system;
 }

@@ -166,10 +166,17 @@ computeWeights (const Points3& points,
     return result;
   }
 
-  // Each point's row comes from its ring or, where the ring fails, from the graph:
-  // decide and compute per point first, then lay the rows out.
+  // Each point's row comes from its ring or, where the ring fails, from the graph.
+  // Rows are computed in parallel into per-point slots wide enough for either
+  // (no allocation per point), then packed in order.
+  std::vector<std::size_t> slot (n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto v_index = static_cast<pcl::index_t> (v);
+    const pcl::index_t ring_size = ordered ? rings.degree (v_index) : 0;
+    slot[v + 1] = slot[v] + static_cast<std::size_t> (std::max (ring_size, graph.degree (v_index)));
+  }
+  std::vector<double> slot_values (slot[n]);
   std::vector<char> uses_ring (n, 0);
-  std::vector<std::vector<double>> row_values (n);
   std::size_t fallbacks = 0;
 #pragma omp parallel reduction(+ : fallbacks)
   {
@@ -195,7 +202,7 @@ computeWeights (const Points3& points,
         else
           reciprocalDistanceWeights (points, v, graph.begin (v), graph.end (v), lambda);
       }
-      row_values[v] = lambda;
+      std::copy (lambda.begin (), lambda.end (), slot_values.begin () + slot[v]);
     }
   }
 
@@ -203,8 +210,10 @@ computeWeights (const Points3& points,
   layout.offsets.assign (n + 1, 0);
   for (std::size_t v = 0; v < n; ++v) {
     const CsrGraph& source = uses_ring[v] ? rings : graph;
-    layout.adjacency.insert (layout.adjacency.end (), source.begin (v), source.end (v));
-    result.values.insert (result.values.end (), row_values[v].begin (), row_values[v].end ());
+    const auto v_index = static_cast<pcl::index_t> (v);
+    layout.adjacency.insert (layout.adjacency.end (), source.begin (v_index), source.end (v_index));
+    result.values.insert (result.values.end (), slot_values.begin () + slot[v],
+                          slot_values.begin () + slot[v] + source.degree (v_index));
     layout.offsets[v + 1] = static_cast<pcl::index_t> (layout.adjacency.size ());
   }
   result.num_fallbacks = fallbacks;

@@ -95,16 +95,12 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     return fail ("the search radius must be finite and not negative (setSearchRadius)");
   if (radius_ == 0.0 && k_ < 3)
     return fail ("the number of neighbours must be at least 3 (setNumberOfNeighbours)");
-  if (!input_ || !indices_)
-    return fail ("no input cloud (setInputCloud)");
-
   // Finite points through indices_ (a repeated index is the same point), then
   // exact duplicates merged into the first.
   pcl::Indices finite;
   finite.reserve (indices_->size ());
+  // The input and the index range were checked by inputIsUsable ().
   for (const auto i : *indices_) {
-    if (i < 0 || static_cast<std::size_t> (i) >= input_->size ())
-      return fail ("an index lies outside the input cloud (setIndices)");
     if (pcl::isFinite ((*input_)[i]))
       finite.push_back (i);
     else
