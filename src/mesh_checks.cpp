@@ -842,5 +842,24 @@ describe (const MeshReport& r)
   return out.str ();
 }
 
+double
+areaFacingAgainstNormals (const Points3& vertices,
+                          const Triangles& triangles,
+                          const std::vector<Eigen::Vector3f>& normals)
+{
+  double total = 0.0, against = 0.0;
+  for (const auto& t : triangles) {
+    const Eigen::Vector3d cross =
+        (vertices[t[1]] - vertices[t[0]]).cross (vertices[t[2]] - vertices[t[0]]);
+    const double area = cross.norm ();
+    const Eigen::Vector3d normal_sum =
+        (normals[t[0]] + normals[t[1]] + normals[t[2]]).cast<double> ();
+    total += area;
+    if (cross.dot (normal_sum) < 0.0)
+      against += area;
+  }
+  return total > 0.0 ? against / total : 0.0;
+}
+
 } // namespace meshless
 } // namespace pcl

@@ -106,6 +106,11 @@ triangulateSphere (const Points3& points,
     result.message = surface.message;
     return result;
   }
+  if (options.separate_thin_sheets && surface.sheet_edges_dropped == 0) {
+    result.message = "no edges across thin parts to drop (or dropping them would "
+                     "disconnect the graph)";
+    return result;
+  }
   const CsrGraph& graph = surface.graph;
   const OrderedNeighbourhoods& ordered = surface.ordered;
   const CsrGraph& mutual = surface.mutual;
@@ -222,13 +227,16 @@ triangulateSphere (const Points3& points,
     }
     stats.repair_flips = merged.num_repair_flips;
     result.triangles = std::move (merged.triangles);
+    result.normals = ordered.normals;
     if (!clock.done ("merge", 1.0, std::to_string (merged.num_repair_flips) + " repair flips"))
       return cancelled ();
     result.success = true;
     return result;
   }
   result.message = "no base mesh worked after " + std::to_string (attempts) +
-                   " attempt(s); the last problem: " + last_problem;
+                   " attempt(s) (is the cloud sphere-like? a handle or a boundary leaves no "
+                   "room for the paths; so may parts thinner than the point spacing); the last "
+                   "problem: " + last_problem;
   return result;
 }
 

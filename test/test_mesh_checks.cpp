@@ -686,3 +686,34 @@ TEST (MeshChecks, LargeSpherePerformance)
             << describe (r) << "\n";
   RecordProperty ("seconds", std::to_string (seconds));
 }
+
+TEST (MeshChecks, AreaFacingAgainstNormals)
+{
+  Mesh m = tetrahedron ();
+  // Normals from the centroid out: every face agrees with them.
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
+  for (const auto& p : m.vertices)
+    centroid += p / 4.0;
+  std::vector<Eigen::Vector3f> outward;
+  for (const auto& p : m.vertices)
+    outward.push_back ((p - centroid).template cast<float> ());
+  EXPECT_DOUBLE_EQ (areaFacingAgainstNormals (m.vertices, m.triangles, outward), 0.0);
+
+  std::vector<Eigen::Vector3f> inward;
+  for (const auto& n : outward)
+    inward.push_back (-n);
+  EXPECT_DOUBLE_EQ (areaFacingAgainstNormals (m.vertices, m.triangles, inward), 1.0);
+
+  // One face turned round: exactly its share of the area.
+  Mesh flipped = m;
+  std::swap (flipped.triangles[0][1], flipped.triangles[0][2]);
+  double total = 0.0;
+  for (const auto& t : m.triangles)
+    total += (m.vertices[t[1]] - m.vertices[t[0]]).cross (m.vertices[t[2]] - m.vertices[t[0]]).norm ();
+  const auto& t0 = m.triangles[0];
+  const double first =
+      (m.vertices[t0[1]] - m.vertices[t0[0]]).cross (m.vertices[t0[2]] - m.vertices[t0[0]]).norm ();
+  EXPECT_NEAR (areaFacingAgainstNormals (flipped.vertices, flipped.triangles, outward), first / total,
+               1e-12);
+  EXPECT_DOUBLE_EQ (areaFacingAgainstNormals ({}, {}, {}), 0.0);
+}

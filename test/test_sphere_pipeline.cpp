@@ -159,3 +159,23 @@ TEST (SpherePipeline, TooFewPointsOrADisconnectedGraphIsAnError)
   EXPECT_FALSE (result.success);
   EXPECT_NE (result.message.find ("disconnected"), std::string::npos) << result.message;
 }
+
+TEST (SpherePipeline, SeparatingThinSheetsWhereThereAreNoneStopsAtOnce)
+{
+  // A round sphere has no part thinner than its point spacing: a run with those
+  // edges dropped would repeat the plain run, so it must stop and say so.
+  const Points3 points = sampleShape (SyntheticShape::Sphere, {2000, 3, 0.0});
+  const CsrGraph nb = meshless_test::bruteForceKnn (points, 12);
+  SpherePipelineOptions options;
+  options.separate_thin_sheets = true;
+  const SphereTriangulation result = triangulateSphere (points, nb, options);
+  EXPECT_FALSE (result.success);
+  EXPECT_NE (result.message.find ("thin parts"), std::string::npos) << result.message;
+  EXPECT_TRUE (result.triangles.empty ());
+
+  // Without the option the same cloud closes up, and the normals come with it.
+  const SphereTriangulation plain = triangulateSphere (points, nb, {});
+  expectClosedSphere (points, plain);
+  ASSERT_EQ (plain.normals.size (), points.size ());
+  EXPECT_LT (areaFacingAgainstNormals (points, plain.triangles, plain.normals), 1e-3);
+}

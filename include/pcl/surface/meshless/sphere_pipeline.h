@@ -53,7 +53,9 @@ struct SpherePipelineOptions
     * limbs, where paths find no room). */
   CornerPlacement corners = CornerPlacement::AlongRays;
   /** \brief Drop kNN edges across parts thinner than the point spacing before
-    * cutting (see buildSurfaceGraphs). Default false. */
+    * cutting (see buildSurfaceGraphs). If there is no such edge to drop, the run
+    * stops at once with a message (it would repeat a run without them). Default
+    * false. */
   bool separate_thin_sheets = false;
   SolveOptions solve;
   ProgressCallback progress;
@@ -78,6 +80,9 @@ struct SphereTriangulation : StageStatus
 {
   /** \brief 2n - 4 triangles, outward oriented, over the point indices. */
   Triangles triangles;
+  /** \brief The points' least-squares normals, oriented outward (the triangles'
+    * orientation follows them). */
+  std::vector<Eigen::Vector3f> normals;
   SpherePipelineStats stats;
 };
 
