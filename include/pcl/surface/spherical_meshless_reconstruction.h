@@ -43,6 +43,12 @@ struct SphericalMeshlessReport
   bool thin_sheet_retry = false;
   /** \brief The edge-swap optimization (when enabled). */
   meshless::EdgeSwapResult optimization;
+  /** \brief Sphere topology: share of the mesh's area facing against the cloud's
+    * oriented normals (meshless::areaFacingAgainstNormals); above
+    * SphericalMeshlessReconstruction::max_area_against_normals, with
+    * self-intersections, the cloud is rejected as
+    * not sphere-like. */
+  double area_against_normals = 0.0;
   /** \brief The check of the output mesh (valid when the pipeline produced one). */
   meshless::MeshReport mesh;
 };
@@ -65,6 +71,9 @@ struct SphericalMeshlessReport
   * logs PCL_ERROR with the cause and returns an empty mesh. Self-intersections
   * are counted (getReport().mesh.self_intersecting_pairs) and reported with
   * PCL_WARN: the topology is guaranteed, the embedding on noisy data is not.
+  * A cloud that is not sphere-like (a handle, an open surface) is rejected when the
+  * closed mesh through it both intersects itself and faces against the cloud's
+  * oriented normals over more than max_area_against_normals of its area.
   *
   * Exact duplicate points are merged (the first one is used; the others remain in
   * the output cloud as unused vertices). Non-finite points are skipped.
@@ -76,14 +85,20 @@ struct SphericalMeshlessReport
   * Inner boundary loops (holes) are kept open when they can be cut out cleanly;
   * otherwise the reconstruction stops with a message saying so.
   *
-  * \note Surfaces of higher genus are not sphere-like; see the README for what
-  *       happens with them.
+  * \note Surfaces of higher genus are not sphere-like: the class rejects them as
+  *       described above, or (if the closed mesh happens not to intersect itself)
+  *       returns a valid genus-0 mesh through their points.
   * \ingroup surface
   */
 template <typename PointInT>
 class SphericalMeshlessReconstruction : public MeshConstruction<PointInT>
 {
 public:
+  /** \brief Share of area facing against the cloud's normals above which a
+    * self-intersecting closed result means the cloud is not sphere-like (measured:
+    * genus-0 clouds at most 2.5%, a torus 43%, fertility 30%, an open face 16%). */
+  static constexpr double max_area_against_normals = 0.08;
+
   using Ptr = shared_ptr<SphericalMeshlessReconstruction<PointInT>>;
   using ConstPtr = shared_ptr<const SphericalMeshlessReconstruction<PointInT>>;
 

@@ -193,6 +193,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     return fail ("cancelled by the progress callback");
 
   meshless::Triangles triangles;
+  std::vector<Eigen::Vector3f> normals; // sphere mode: the oriented point normals
   meshless::SpherePipelineOptions sphere_options; // kept for a second attempt
   if (sphere) {
     meshless::SpherePipelineOptions options;
@@ -222,6 +223,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     if (!result.success)
       return fail ("the spherical reconstruction failed: " + result.message);
     triangles = std::move (result.triangles);
+    normals = std::move (result.normals);
     sphere_options = options;
   }
   else {
@@ -273,11 +275,22 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   if (!problem.empty ())
     return fail (problem);
 
+  // A closed genus-0 surface through a cloud with handles or a boundary has to
+  // turn back over itself: it intersects itself and large parts of it face against
+  // the cloud's oriented normals (see meshless::areaFacingAgainstNormals).
+  auto turnsBack = [&] () {
+    report_.area_against_normals =
+        sphere ? meshless::areaFacingAgainstNormals (points, triangles, normals) : 0.0;
+    return report_.mesh.self_intersecting_pairs > 0 &&
+           report_.area_against_normals > max_area_against_normals;
+  };
+
   // Where the surface is thinner than the point spacing, kNN edges join its two
   // sides and the patches fold there. If the result intersects itself, try again
   // with those edges dropped (see meshless::buildSurfaceGraphs) and keep the result
-  // with fewer intersecting pairs; a failed second attempt changes nothing.
-  if (sphere && report_.mesh.self_intersecting_pairs > 0) {
+  // with fewer intersecting pairs; a failed second attempt changes nothing, and a
+  // cloud without such edges makes none.
+  if (sphere && report_.mesh.self_intersecting_pairs > 0 && !turnsBack ()) {
     sphere_options.separate_thin_sheets = true;
     meshless::SphereTriangulation second =
         meshless::triangulateSphere (points, nb.neighbours, sphere_options);
@@ -286,12 +299,21 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     if (second.success && optimizeAndCheck (second.triangles, optimization, mesh).empty () &&
         mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs) {
       triangles = std::move (second.triangles);
+      normals = std::move (second.normals);
       report_.stats = second.stats;
       report_.optimization = optimization;
       report_.mesh = mesh;
       report_.thin_sheet_retry = true;
     }
   }
+  if (sphere && turnsBack ())
+    return fail ("the cloud does not look like the surface of one sphere-like object: a "
+                 "closed mesh through it intersects itself (" +
+                 std::to_string (report_.mesh.self_intersecting_pairs) + " pairs) and " +
+                 std::to_string (static_cast<int> (100.0 * report_.area_against_normals + 0.5)) +
+                 "% of its area faces against the cloud's normals; a surface with handles "
+                 "(genus > 0) needs a base mesh of its genus, an open surface "
+                 "setTopology (Topology::Disc)");
   if (report_.mesh.self_intersecting_pairs > 0)
     PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect (noisy or thin "
               "input); the mesh is %s and oriented all the same\n",
