@@ -132,13 +132,18 @@ main (int argc, char** argv)
   // The reconstruction's warnings (self-intersections on thin parts) would repeat once
   // per iteration between the timing lines.
   pcl::console::setVerbosityLevel (pcl::console::L_ERROR);
-  for (const std::size_t points : {10000, 100000})
+  // Generated clouds of 10k, 100k and 1M points (the growth from one to the next
+  // is the scaling); then every genus-0 shared cloud. Select with
+  // --benchmark_filter (e.g. 'bumpy|bunny_igl' for a quick run).
+  for (const std::size_t points : {10000, 100000, 1000000})
     registerCloud ("bumpy_sphere_" + std::to_string (points / 1000) + "k",
                    bumpySphere (points));
   const char* data = std::getenv ("MESHLESS_DATA_DIR");
   const std::filesystem::path clouds =
       std::filesystem::path (data ? data : MESHLESS_SHARED_DATA_DIR) / "clouds";
-  for (const char* name : {"bunny_igl", "fandisk_6475", "armadillo_igl"}) {
+  for (const char* name :
+       {"bunny_igl", "cow_igl", "spot", "fandisk_6475", "armadillo_igl", "horse",
+        "armadillo_noisy_100k", "bunny_rawscans_merged10", "armadillo_uniform_1m"}) {
     const std::string path = (clouds / (std::string (name) + ".pcd")).string ();
     auto cloud = pcl::make_shared<Cloud> ();
     if (std::filesystem::exists (path) &&
