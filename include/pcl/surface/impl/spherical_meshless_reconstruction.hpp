@@ -266,6 +266,11 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
                      mesh.boundary_loops == 1 + report_.holes &&
                      mesh.euler_characteristic == 1 - static_cast<long> (report_.holes);
+    if (sphere && mesh.isSphereLike () && mesh_triangles.size () == 2 * n - 4 &&
+        mesh.unused_vertices == 0 && !(mesh.signed_volume > 0.0))
+      return "the closed mesh came out inside out (the normals could not be oriented "
+             "outward: too few points, or k close to the cloud's size; check "
+             "setNumberOfNeighbours)";
     if (!valid || mesh.unused_vertices != 0)
       return "the result failed its own check (a bug; please report it with the cloud): " +
              meshless::describe (mesh);
@@ -311,9 +316,9 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                  "closed mesh through it intersects itself (" +
                  std::to_string (report_.mesh.self_intersecting_pairs) + " pairs) and " +
                  std::to_string (static_cast<int> (100.0 * report_.area_against_normals + 0.5)) +
-                 "% of its area faces against the cloud's normals; a surface with handles "
-                 "(genus > 0) needs a base mesh of its genus, an open surface "
-                 "setTopology (Topology::Disc)");
+                 "% of its area faces against the cloud's normals (a handle, genus > 0; a "
+                 "boundary: use setTopology (Topology::Disc); or parts thinner than the point "
+                 "spacing: sample them more densely)");
   if (report_.mesh.self_intersecting_pairs > 0)
     PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect (noisy or thin "
               "input); the mesh is %s and oriented all the same\n",
