@@ -297,14 +297,6 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // cloud without such edges makes none.
   if (sphere && report_.mesh.self_intersecting_pairs > 0 && !turnsBack ()) {
     sphere_options.separate_thin_sheets = true;
-    // A speculative second run may take as long as the first one did, no longer
-    // (armadillo_noisy_100k spent 7 s failing through eight base meshes; cow_igl
-    // needs several): past that, it is cancelled through the progress callback.
-    const auto first_run = std::chrono::steady_clock::now () - search_start;
-    const auto retry_start = std::chrono::steady_clock::now ();
-    sphere_options.progress = [&] (const meshless::ProgressReport& stage) {
-      return record (stage) && std::chrono::steady_clock::now () - retry_start <= first_run;
-    };
     meshless::SphereTriangulation second =
         meshless::triangulateSphere (points, nb.neighbours, sphere_options);
     meshless::EdgeSwapResult optimization;
