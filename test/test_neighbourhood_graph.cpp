@@ -6,6 +6,7 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <limits>
 #include <numeric>
 #include <random>
 #include <set>
@@ -221,4 +222,24 @@ TEST (NeighbourhoodGraph, RejectsBadParameters)
   options.k = 12;
   options.radius = -1.0;
   EXPECT_FALSE (searchAll (cloud, allIndices (50), options).success);
+}
+
+TEST (NeighbourhoodGraph, KAndCapUpToIntMaxGiveEveryOtherPoint)
+{
+  // Issue 7, found by scripts/sanitize: k + 1 (the query point is among the results)
+  // overflowed an int for k = INT_MAX, undefined behaviour; likewise the cap of ball
+  // neighbourhoods.
+  const auto cloud = randomCloud (30, 1.0, 5);
+  NeighbourhoodOptions options;
+  options.k = std::numeric_limits<int>::max ();
+  Neighbourhoods result = searchAll (cloud, allIndices (30), options);
+  ASSERT_TRUE (result.success) << result.message;
+  for (std::size_t v = 0; v < 30; ++v)
+    EXPECT_EQ (result.neighbours.degree (v), 29);
+  options.radius = 10.0;
+  options.max_neighbours = std::numeric_limits<int>::max ();
+  result = searchAll (cloud, allIndices (30), options);
+  ASSERT_TRUE (result.success) << result.message;
+  for (std::size_t v = 0; v < 30; ++v)
+    EXPECT_EQ (result.neighbours.degree (v), 29);
 }

@@ -9,6 +9,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 
 namespace pcl {
 namespace meshless {
@@ -113,6 +115,18 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
   // into its own slot, then the rows are packed in order, so the result does not
   // depend on the number of threads.
   const std::size_t n = cloud_indices.size ();
+  // Ask for one more than k or the cap: the query point itself is among the results.
+  // Counted in a wider type (k = INT_MAX overflowed an int) and bounded by the
+  // cloud, more than which no search returns.
+  const auto plus_self = [&] (int count) {
+    return static_cast<int> (std::min<std::int64_t> (
+        {std::int64_t{count} + 1, static_cast<std::int64_t> (cloud->size ()),
+         std::numeric_limits<int>::max ()}));
+  };
+  const int knn = plus_self (options.k);
+  const unsigned int cap =
+      options.max_neighbours > 0 ? static_cast<unsigned int> (plus_self (options.max_neighbours))
+                                 : 0u;
   std::vector<pcl::Indices> rows (n);
   std::size_t num_empty = 0;
 #pragma omp parallel reduction(+ : num_empty)
@@ -123,16 +137,10 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
     for (std::ptrdiff_t si = 0; si < static_cast<std::ptrdiff_t> (n); ++si) {
       const auto i = static_cast<std::size_t> (si);
       const auto query = cloud_indices[i];
-      if (use_radius) {
-        // Ask for one more than the cap: the query point itself is among the results.
-        const unsigned int cap = options.max_neighbours > 0
-                                     ? static_cast<unsigned int> (options.max_neighbours + 1)
-                                     : 0u;
+      if (use_radius)
         search.radiusSearch ((*cloud)[query], options.radius, found, sqr_distances, cap);
-      }
-      else {
-        search.nearestKSearch ((*cloud)[query], options.k + 1, found, sqr_distances);
-      }
+      else
+        search.nearestKSearch ((*cloud)[query], knn, found, sqr_distances);
       // PCL returns the results sorted by distance (sorted_results_ is true for the
       // searches PCL builds). The query itself and exact duplicates come first.
       const std::size_t limit =

@@ -1,0 +1,263 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+// libFuzzer target (issue 7): raw bytes -> a small cloud and options ->
+// pcl::SphericalMeshlessReconstruction -> the contract of the README checked from
+// the outside. The process aborts when the class reports success on a mesh that
+// breaks a promise, or fails without saying why; crashes, hangs, leaks, undefined
+// behaviour and escaping exceptions are caught by libFuzzer and the sanitizers.
+//
+// Input layout (kHeader option bytes, then float triples; see make_corpus.py):
+//   byte 0   k = byte % 16 (0..2 are invalid on purpose: the failure path)
+//   byte 1   bits 0-1 weight type, bit 2 disc topology, bit 3 optimization off,
+//            bits 4-5 base polyhedron (3: tetrahedron), bit 6 no self-intersection
+//            check, bit 7 ball neighbourhoods (radius from byte 2)
+//   byte 2   radius = (byte + 1) / 256 of the bounding-box diagonal of the finite
+//            points (only with bit 7 of byte 1)
+//   byte 3   bit 0 setIndices (every point backwards, the first bits 2-7 indices
+//            again), bit 1 a user base mesh on the first four points, bit 2 the
+//            std::vector<pcl::Vertices> overload instead of pcl::PolygonMesh
+//   then     x y z as little-endian IEEE floats, 12 bytes per point, at most
+//            kMaxPoints points; a trailing partial triple is ignored.
+// NaN, infinities and duplicates come from the bytes as they are.
+#include <pcl/common/point_tests.h>
+#include <pcl/console/print.h>
+#include <pcl/point_types.h>
+#include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <map>
+#include <set>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using Reconstruction = pcl::SphericalMeshlessReconstruction<pcl::PointXYZ>;
+
+constexpr std::size_t kHeader = 4;
+/** Enough for every stage to do real work (patches, paths, swaps), few enough for
+  * hundreds of executions per second under the sanitizers. */
+constexpr std::size_t kMaxPoints = 400;
+
+/** A broken promise: say which and stop, so that libFuzzer saves the input. */
+[[noreturn]] void
+broken (const char* what, const Reconstruction& reconstruction)
+{
+  const auto& report = reconstruction.getReport ();
+  std::fprintf (stderr, "fuzz_reconstruction: %s\n  success=%d message='%s'\n  %s\n",
+                what, report.success ? 1 : 0, report.message.c_str (),
+                pcl::meshless::describe (report.mesh).c_str ());
+  std::fflush (stderr);
+  std::abort ();
+}
+
+float
+readFloat (const std::uint8_t* bytes)
+{
+  std::uint32_t bits = static_cast<std::uint32_t> (bytes[0]) |
+                       static_cast<std::uint32_t> (bytes[1]) << 8 |
+                       static_cast<std::uint32_t> (bytes[2]) << 16 |
+                       static_cast<std::uint32_t> (bytes[3]) << 24;
+  float value;
+  std::memcpy (&value, &bits, sizeof value);
+  return value;
+}
+
+/** The distinct finite points the class must use, found independently of it:
+  * through `indices` (all points if empty), the smallest index at each position. */
+std::set<pcl::index_t>
+expectedVertices (const Cloud& cloud, const pcl::Indices& indices)
+{
+  std::map<std::tuple<float, float, float>, pcl::index_t> first;
+  auto visit = [&] (pcl::index_t i) {
+    const auto& p = cloud[i];
+    if (!pcl::isFinite (p))
+      return;
+    // Compared by value, as the class does: +0 and -0 are the same position.
+    auto [it, inserted] = first.emplace (std::make_tuple (p.x, p.y, p.z), i);
+    if (!inserted)
+      it->second = std::min (it->second, i);
+  };
+  if (indices.empty ())
+    for (std::size_t i = 0; i < cloud.size (); ++i)
+      visit (static_cast<pcl::index_t> (i));
+  else
+    for (const auto i : indices)
+      visit (i);
+  std::set<pcl::index_t> vertices;
+  for (const auto& entry : first)
+    vertices.insert (entry.second);
+  return vertices;
+}
+
+} // namespace
+
+extern "C" int
+LLVMFuzzerInitialize (int* /*argc*/, char*** /*argv*/)
+{
+  // Failures are expected on most inputs; PCL_ERROR / PCL_WARN would flood the log.
+  pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+  return 0;
+}
+
+extern "C" int
+LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
+{
+  if (size < kHeader)
+    return 0;
+  const int k = data[0] % 16;
+  const std::uint8_t flags = data[1];
+  const auto weights = static_cast<pcl::meshless::WeightType> (flags & 3);
+  const bool disc = flags & 4;
+  const bool optimize = !(flags & 8);
+  const int polyhedron = (flags >> 4) & 3;
+  const bool check_intersections = !(flags & 64);
+  const bool use_radius = flags & 128;
+  const bool use_indices = data[3] & 1;
+  const bool user_base_mesh = data[3] & 2;
+  const bool polygons_overload = data[3] & 4;
+  const std::size_t repeats = data[3] >> 3;
+
+  auto cloud = pcl::make_shared<Cloud> ();
+  const std::size_t n = std::min ((size - kHeader) / 12, kMaxPoints);
+  bool dense = true;
+  for (std::size_t i = 0; i < n; ++i) {
+    const std::uint8_t* p = data + kHeader + 12 * i;
+    cloud->push_back (
+        pcl::PointXYZ (readFloat (p), readFloat (p + 4), readFloat (p + 8)));
+    dense = dense && pcl::isFinite (cloud->back ());
+  }
+  cloud->is_dense = dense; // honest: PCL's searches trust it
+
+  Reconstruction reconstruction;
+  reconstruction.setInputCloud (cloud);
+  reconstruction.setNumberOfNeighbours (k);
+  reconstruction.setWeightType (weights);
+  if (disc)
+    reconstruction.setTopology (Reconstruction::Topology::Disc);
+  reconstruction.setOptimize (optimize);
+  reconstruction.setBasePolyhedron (
+      polyhedron == 1   ? pcl::meshless::BasePolyhedron::Octahedron
+      : polyhedron == 2 ? pcl::meshless::BasePolyhedron::Icosahedron
+                        : pcl::meshless::BasePolyhedron::Tetrahedron);
+  reconstruction.setCheckSelfIntersections (check_intersections);
+  if (use_radius) {
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant (INFINITY), hi = -lo;
+    for (const auto& p : *cloud)
+      if (pcl::isFinite (p)) {
+        lo = lo.cwiseMin (p.getVector3fMap ().cast<double> ());
+        hi = hi.cwiseMax (p.getVector3fMap ().cast<double> ());
+      }
+    const double diagonal = (hi - lo).norm ();
+    if (std::isfinite (diagonal))
+      reconstruction.setSearchRadius (diagonal * (data[2] + 1) / 256.0);
+  }
+  pcl::Indices indices;
+  if (use_indices) {
+    for (std::size_t i = n; i-- > 0;)
+      indices.push_back (static_cast<pcl::index_t> (i));
+    for (std::size_t r = 0; r < std::min (repeats, n); ++r)
+      indices.push_back (static_cast<pcl::index_t> (r));
+    reconstruction.setIndices (pcl::make_shared<pcl::Indices> (indices));
+  }
+  if (user_base_mesh && n >= 4) {
+    std::vector<pcl::Vertices> faces (4);
+    // Counter-clockwise seen from outside when point 0 is above the other three
+    // and they turn counter-clockwise seen from above; inverted otherwise.
+    const int corners[4][3] = {{0, 1, 2}, {0, 2, 3}, {0, 3, 1}, {1, 3, 2}};
+    for (int f = 0; f < 4; ++f)
+      faces[f].vertices.assign (corners[f], corners[f] + 3);
+    reconstruction.setBaseMesh ({0, 1, 2, 3}, faces);
+  }
+
+  pcl::PolygonMesh mesh;
+  if (polygons_overload)
+    reconstruction.reconstruct (mesh.polygons);
+  else
+    reconstruction.reconstruct (mesh);
+  const auto& report = reconstruction.getReport ();
+
+  if (!report.success) {
+    if (report.message.empty ())
+      broken ("failure without a message", reconstruction);
+    if (!mesh.polygons.empty ())
+      broken ("failure with polygons", reconstruction);
+    if (!polygons_overload && !mesh.cloud.data.empty ())
+      broken ("failure with a non-empty output cloud", reconstruction);
+    return 0;
+  }
+
+  // Success: check the output as a user would, on the input cloud's own indices.
+  if (!report.message.empty ())
+    broken ("success with a message", reconstruction);
+  if (!polygons_overload && mesh.cloud.width * mesh.cloud.height != cloud->size ())
+    broken ("the output cloud is not the input cloud", reconstruction);
+  const std::set<pcl::index_t> expected = expectedVertices (*cloud, indices);
+  if (report.num_points != expected.size ())
+    broken ("num_points is not the number of distinct finite points", reconstruction);
+  pcl::meshless::Points3 vertices (cloud->size ());
+  for (std::size_t i = 0; i < cloud->size (); ++i)
+    vertices[i] = (*cloud)[i].getVector3fMap ().cast<double> ();
+  pcl::meshless::Triangles triangles;
+  std::set<pcl::index_t> used;
+  for (const auto& polygon : mesh.polygons) {
+    if (polygon.vertices.size () != 3)
+      broken ("a polygon that is not a triangle", reconstruction);
+    pcl::meshless::Triangle t;
+    for (int j = 0; j < 3; ++j) {
+      const auto v = static_cast<pcl::index_t> (polygon.vertices[j]);
+      if (v < 0 || static_cast<std::size_t> (v) >= cloud->size ())
+        broken ("a vertex index outside the cloud", reconstruction);
+      t[j] = v;
+      used.insert (v);
+    }
+    triangles.push_back (t);
+  }
+  if (used != expected)
+    broken ("the vertices are not exactly the distinct finite points", reconstruction);
+  pcl::meshless::MeshCheckOptions options;
+  options.check_self_intersections = false; // allowed (and reported) by the contract
+  options.num_threads = 1;
+  const pcl::meshless::MeshReport check =
+      pcl::meshless::checkMesh (vertices, triangles, options);
+  if (!check.success)
+    broken ("checkMesh did not run", reconstruction);
+  if (!disc) {
+    if (!check.isSphereLike ())
+      broken (
+          "sphere mode: not one closed, oriented component of Euler characteristic 2",
+          reconstruction);
+    if (triangles.size () != 2 * expected.size () - 4)
+      broken ("sphere mode: not 2n - 4 triangles", reconstruction);
+    // Outward. The class computes the volume from other roundings of the same
+    // points; allow for that, far below the volume of any cloud that is not flat.
+    Eigen::Vector3d lo = Eigen::Vector3d::Constant (INFINITY), hi = -lo;
+    for (const auto v : expected) {
+      lo = lo.cwiseMin (vertices[v]);
+      hi = hi.cwiseMax (vertices[v]);
+    }
+    const double extent = (hi - lo).norm ();
+    if (check.signed_volume < -1e-9 * extent * extent * extent)
+      broken ("sphere mode: inward orientation (negative volume)", reconstruction);
+  }
+  else {
+    const long holes = static_cast<long> (report.holes);
+    if (!check.isManifold () || !check.isOriented () || check.components != 1 ||
+        static_cast<long> (check.boundary_loops) != 1 + holes ||
+        check.euler_characteristic != 1 - holes)
+      broken ("disc mode: not one oriented manifold disc with the reported holes",
+              reconstruction);
+  }
+  return 0;
+}

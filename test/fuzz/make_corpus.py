@@ -1,0 +1,104 @@
+#!/usr/bin/env python3
+#
+# Software License Agreement (BSD License)
+#  pcl_spherical_meshless - see LICENSE.
+#
+# Writes the seed corpus of fuzz_reconstruction into corpus/ (next to this file):
+# small clouds the reconstruction handles, and the bad inputs of issue 7, in the
+# byte layout that fuzz_reconstruction.cpp documents. Deterministic: running it
+# again gives the same files. Findings of the fuzzer are added to corpus/ as they
+# are (named finding-*), not by this script.
+import math
+import os
+import random
+import struct
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+CORPUS = os.path.join(HERE, "corpus")
+
+# Byte 1 of the header.
+UNIFORM, DISTANCE, SHAPE, MEANVALUE = 0, 1, 2, 3
+DISC = 4
+NO_OPTIMIZE = 8
+OCTAHEDRON = 1 << 4
+ICOSAHEDRON = 2 << 4
+NO_INTERSECTION_CHECK = 64
+RADIUS = 128
+# Byte 3.
+INDICES = 1
+BASE_MESH = 2
+POLYGONS = 4
+
+
+def write(name, points, k=12, flags=MEANVALUE, radius_byte=0, extra=0):
+    data = bytes([k % 256, flags, radius_byte, extra])
+    data += b"".join(struct.pack("<fff", *p) for p in points)
+    with open(os.path.join(CORPUS, name), "wb") as f:
+        f.write(data)
+
+
+def fibonacci_sphere(n, scale=(1.0, 1.0, 1.0), offset=(0.0, 0.0, 0.0)):
+    golden = math.pi * (3.0 - math.sqrt(5.0))
+    points = []
+    for i in range(n):
+        z = 1.0 - 2.0 * (i + 0.5) / n
+        r = math.sqrt(1.0 - z * z)
+        p = (r * math.cos(golden * i), r * math.sin(golden * i), z)
+        points.append(tuple(offset[j] + scale[j] * p[j] for j in range(3)))
+    return points
+
+
+def main():
+    os.makedirs(CORPUS, exist_ok=True)
+    rng = random.Random(7)
+    nan, inf = float("nan"), float("inf")
+
+    tetrahedron = [(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1)]
+    octahedron = [(1, 0, 0), (-1, 0, 0), (0, 1, 0), (0, -1, 0), (0, 0, 1), (0, 0, -1)]
+    write("tetrahedron", tetrahedron)
+    write("tetrahedron-k3-polygons", tetrahedron, k=3, extra=POLYGONS)
+    write("octahedron-k15", octahedron, k=15)
+    write("sphere-50", fibonacci_sphere(50), k=8)
+    write("sphere-200-icosahedron", fibonacci_sphere(200), flags=MEANVALUE | ICOSAHEDRON)
+    write("sphere-120-octahedron-shape", fibonacci_sphere(120), k=10, flags=SHAPE | OCTAHEDRON)
+    write("sphere-100-uniform-no-optimize", fibonacci_sphere(100), k=9,
+          flags=UNIFORM | NO_OPTIMIZE | NO_INTERSECTION_CHECK)
+    write("sphere-100-radius", fibonacci_sphere(100), flags=DISTANCE | RADIUS, radius_byte=80)
+    write("ellipsoid-1-1-20", fibonacci_sphere(150, scale=(1, 1, 20)))
+    write("sphere-far-from-origin", fibonacci_sphere(80, scale=(100, 100, 100),
+                                                     offset=(5e6, 5e6, 0)))
+    noisy = [tuple(c + rng.gauss(0.0, 0.02) for c in p) for p in fibonacci_sphere(150)]
+    write("sphere-150-noisy", noisy)
+
+    base = fibonacci_sphere(60)
+    duplicated = base + base[:20] + [base[3]] * 5
+    write("sphere-duplicates", duplicated)
+    write("sphere-nan-inf", base[:30] + [(nan, nan, nan), (inf, 0, 0), (0, -inf, nan)] + base[30:])
+    write("sphere-indices-repeated", base, extra=INDICES | (7 << 3))
+    # The first four points of a Fibonacci sphere are all near the north pole: a
+    # poor base mesh, and a tetrahedron that may be inverted, for the validation.
+    corners = [(0, 0, 1), (0.94, 0, -0.33), (-0.47, 0.82, -0.33), (-0.47, -0.82, -0.33)]
+    write("sphere-user-base-mesh", corners + base, extra=BASE_MESH)
+
+    grid = [(0.1 * i, 0.1 * j, 0.05 * math.sin(i) * math.cos(j))
+            for i in range(10) for j in range(10)]
+    write("height-field-disc", grid, k=10, flags=MEANVALUE | DISC)
+    hemisphere = [p for p in fibonacci_sphere(160) if p[2] > 0.0]
+    write("hemisphere-disc", hemisphere, flags=SHAPE | DISC)
+    write("plane", [(0.1 * i, 0.1 * j, 2.0) for i in range(8) for j in range(8)])
+    write("line", [(0.01 * i, 0.02 * i, -0.005 * i) for i in range(40)])
+    two = fibonacci_sphere(40) + fibonacci_sphere(40, offset=(10, 0, 0))
+    write("two-spheres", two)
+    torus = []
+    for i in range(16):
+        for j in range(8):
+            u, v = 2 * math.pi * i / 16, 2 * math.pi * j / 8
+            torus.append(((1 + 0.4 * math.cos(v)) * math.cos(u),
+                          (1 + 0.4 * math.cos(v)) * math.sin(u), 0.4 * math.sin(v)))
+    write("torus", torus, k=8)
+    write("three-points", tetrahedron[:3])
+    write("k-zero", fibonacci_sphere(30), k=0)
+
+
+if __name__ == "__main__":
+    main()
