@@ -258,6 +258,15 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     meshless::MeshCheckOptions check;
     check.check_self_intersections = check_self_intersections_;
     mesh = meshless::checkMesh (points, mesh_triangles, check);
+    // Outward. A closed, consistently oriented mesh with a negative volume is inside
+    // out as a whole: the orientation vote of the normals can be carried by one far
+    // outlier (an unreliable normal with a large weight). Reversing every triangle
+    // turns it; of the check's figures only the volume changes, to its negative.
+    if (sphere && mesh.isSphereLike () && mesh.signed_volume < 0.0) {
+      for (auto& t : mesh_triangles)
+        std::swap (t[1], t[2]);
+      mesh.signed_volume = -mesh.signed_volume;
+    }
     record ({"check", 1.0,
              std::chrono::duration<double> (std::chrono::steady_clock::now () - check_start).count (),
              ""});
