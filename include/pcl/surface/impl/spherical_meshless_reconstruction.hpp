@@ -295,6 +295,10 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   auto turnsBack = [&] () {
     report_.area_against_normals =
         sphere ? meshless::areaFacingAgainstNormals (points, triangles, normals) : 0.0;
+    // A mesh turned as a whole (see the check above) faces against its normals
+    // everywhere: measure against the normals turned too.
+    report_.area_against_normals =
+        std::min (report_.area_against_normals, 1.0 - report_.area_against_normals);
     return report_.mesh.self_intersecting_pairs > 0 &&
            report_.area_against_normals > max_area_against_normals;
   };
@@ -326,8 +330,8 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                  std::to_string (report_.mesh.self_intersecting_pairs) + " pairs) and " +
                  std::to_string (static_cast<int> (100.0 * report_.area_against_normals + 0.5)) +
                  "% of its area faces against the cloud's normals (a handle, genus > 0; a "
-                 "boundary: use setTopology (Topology::Disc); or parts thinner than the point "
-                 "spacing: sample them more densely)");
+                 "boundary: use setTopology (Topology::Disc); parts thinner than the point "
+                 "spacing: sample them more densely; or far outliers: remove them)");
   if (report_.mesh.self_intersecting_pairs > 0)
     PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect (noisy or thin "
               "input); the mesh is %s and oriented all the same\n",
