@@ -15,6 +15,7 @@
 #include <cmath>
 #include <exception>
 #include <random>
+#include <tuple>
 
 namespace pcl {
 namespace meshless {
@@ -374,6 +375,163 @@ compareToReference (const Points3& vertices, const Triangles& triangles,
     report.message = std::string ("mesh comparison failed: ") + e.what ();
   }
   return report;
+}
+
+std::vector<pcl::index_t>
+matchVerticesByPosition (const Points3& vertices, const Points3& reference_vertices)
+{
+  // Reference indices sorted by coordinates, then by index, so that the first of
+  // equal positions is the smallest index. Non-finite vertices are left out: a NaN
+  // would break the ordering, and nothing can match it.
+  const auto less = [&reference_vertices] (pcl::index_t i, pcl::index_t j) {
+    const Vector3 &p = reference_vertices[i], &q = reference_vertices[j];
+    return std::tie (p[0], p[1], p[2], i) < std::tie (q[0], q[1], q[2], j);
+  };
+  std::vector<pcl::index_t> order;
+  order.reserve (reference_vertices.size ());
+  for (std::size_t r = 0; r < reference_vertices.size (); ++r)
+    if (reference_vertices[r].allFinite ())
+      order.push_back (static_cast<pcl::index_t> (r));
+  std::sort (order.begin (), order.end (), less);
+
+  std::vector<pcl::index_t> match (vertices.size (), -1);
+  for (std::size_t v = 0; v < vertices.size (); ++v) {
+    const Vector3& p = vertices[v];
+    if (!p.allFinite ())
+      continue;
+    const auto at = std::lower_bound (
+        order.begin (), order.end (), p, [&reference_vertices] (pcl::index_t r, const Vector3& x) {
+          const Vector3& q = reference_vertices[r];
+          return std::tie (q[0], q[1], q[2]) < std::tie (x[0], x[1], x[2]);
+        });
+    if (at != order.end () && reference_vertices[*at] == p)
+      match[v] = *at;
+  }
+  return match;
+}
+
+EdgeComparison
+compareEdges (const Points3& vertices, const Triangles& triangles,
+              const Points3& reference_vertices, const Triangles& reference_triangles,
+              const EdgeComparisonOptions& options)
+{
+  EdgeComparison result;
+  const auto key = [] (pcl::index_t u, pcl::index_t w) {
+    const auto lo = static_cast<std::uint64_t> (std::min (u, w));
+    const auto hi = static_cast<std::uint64_t> (std::max (u, w));
+    return lo << 32 | hi;
+  };
+  const auto inRange = [] (const Triangle& t, std::size_t n) {
+    for (const pcl::index_t v : t)
+      if (v < 0 || static_cast<std::size_t> (v) >= n)
+        return false;
+    return true;
+  };
+  try {
+    // Reference vertices at one position become one vertex (the smallest index), so
+    // that a reference with split seams still has its edges across them.
+    const std::vector<pcl::index_t> canonical =
+        matchVerticesByPosition (reference_vertices, reference_vertices);
+
+    // Reference half-edges in canonical indices, grouped by undirected edge; the
+    // direction says how to orient the triangle's normal when the reference is not
+    // consistently oriented.
+    struct HalfEdge
+    {
+      std::uint64_t edge;
+      bool forward;
+      std::uint32_t triangle;
+    };
+    std::vector<HalfEdge> half_edges;
+    half_edges.reserve (3 * reference_triangles.size ());
+    for (std::size_t t = 0; t < reference_triangles.size (); ++t) {
+      const Triangle& tri = reference_triangles[t];
+      if (!inRange (tri, reference_vertices.size ()))
+        continue;
+      for (int i = 0; i < 3; ++i) {
+        const pcl::index_t u = canonical[tri[i]], w = canonical[tri[(i + 1) % 3]];
+        if (u >= 0 && w >= 0 && u != w)
+          half_edges.push_back ({key (u, w), u < w, static_cast<std::uint32_t> (t)});
+      }
+    }
+    std::sort (half_edges.begin (), half_edges.end (),
+               [] (const HalfEdge& a, const HalfEdge& b) {
+                 return std::tie (a.edge, a.triangle) < std::tie (b.edge, b.triangle);
+               });
+    std::vector<std::uint64_t> reference_edges, sharp_edges;
+    const double cos_sharp = std::cos (options.sharp_angle_deg * pi / 180.0);
+    for (std::size_t i = 0; i < half_edges.size ();) {
+      std::size_t j = i + 1;
+      while (j < half_edges.size () && half_edges[j].edge == half_edges[i].edge)
+        ++j;
+      reference_edges.push_back (half_edges[i].edge);
+      if (j - i == 2) {
+        // A consistently oriented pair uses the edge in opposite directions; if not,
+        // one normal is turned so that the angle is the fold of the surface.
+        Vector3 n0 = areaVector (reference_vertices, reference_triangles[half_edges[i].triangle]);
+        Vector3 n1 = areaVector (reference_vertices, reference_triangles[half_edges[i + 1].triangle]);
+        if (half_edges[i].forward == half_edges[i + 1].forward)
+          n1 = -n1;
+        const double l0 = n0.norm (), l1 = n1.norm ();
+        if (l0 > 0.0 && l1 > 0.0 && n0.dot (n1) < cos_sharp * l0 * l1)
+          sharp_edges.push_back (half_edges[i].edge);
+      }
+      i = j;
+    }
+    result.sharp_edges = sharp_edges.size ();
+
+    // The mesh's edges, once each, in its own indices and in the reference's.
+    const std::vector<pcl::index_t> match =
+        matchVerticesByPosition (vertices, reference_vertices);
+    std::vector<std::uint64_t> edges;
+    edges.reserve (3 * triangles.size ());
+    std::vector<bool> used (vertices.size (), false);
+    for (const Triangle& t : triangles) {
+      if (!inRange (t, vertices.size ()))
+        continue;
+      for (int i = 0; i < 3; ++i) {
+        used[t[i]] = true;
+        if (t[i] != t[(i + 1) % 3])
+          edges.push_back (key (t[i], t[(i + 1) % 3]));
+      }
+    }
+    std::sort (edges.begin (), edges.end ());
+    edges.erase (std::unique (edges.begin (), edges.end ()), edges.end ());
+    for (std::size_t v = 0; v < vertices.size (); ++v)
+      if (used[v] && match[v] < 0)
+        ++result.unmatched_vertices;
+    result.edges = edges.size ();
+
+    std::vector<std::uint64_t> mapped;
+    mapped.reserve (edges.size ());
+    for (const std::uint64_t e : edges) {
+      const pcl::index_t u = match[e >> 32], w = match[e & 0xffffffffu];
+      if (u >= 0 && w >= 0 && u != w)
+        mapped.push_back (key (u, w));
+    }
+    std::sort (mapped.begin (), mapped.end ());
+    for (const std::uint64_t e : mapped)
+      if (std::binary_search (reference_edges.begin (), reference_edges.end (), e))
+        ++result.reference_edges;
+    for (const std::uint64_t e : sharp_edges) {
+      if (std::binary_search (mapped.begin (), mapped.end (), e))
+        ++result.sharp_edges_found;
+      else
+        result.missing_sharp_edges.push_back (
+            {static_cast<pcl::index_t> (e >> 32), static_cast<pcl::index_t> (e & 0xffffffffu)});
+    }
+    if (result.edges > 0)
+      result.reference_edge_fraction =
+          static_cast<double> (result.reference_edges) / static_cast<double> (result.edges);
+    if (result.sharp_edges > 0)
+      result.sharp_edge_fraction = static_cast<double> (result.sharp_edges_found) /
+                                   static_cast<double> (result.sharp_edges);
+    result.success = true;
+  } catch (const std::exception& e) {
+    result = EdgeComparison ();
+    result.message = std::string ("edge comparison failed: ") + e.what ();
+  }
+  return result;
 }
 
 } // namespace meshless

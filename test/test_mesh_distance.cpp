@@ -1,10 +1,12 @@
 // Mesh-to-mesh distance: point-triangle distance, the nearest-triangle index against
-// brute force, and sampled distances between meshes whose distances are known.
+// brute force, sampled distances between meshes whose distances are known, and edge
+// comparison with a reference on hand-built cubes.
 #include <pcl/surface/meshless/mesh_distance.h>
 
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <random>
 
 using namespace pcl::meshless;
@@ -211,4 +213,116 @@ TEST (CompareToReference, FailsWithoutTriangles)
       compareToReference (tet.vertices, {}, tet.vertices, tet.triangles);
   EXPECT_FALSE (report.success);
   EXPECT_EQ (report.message, "the mesh has no triangle of positive area");
+}
+
+namespace {
+
+/** The unit cube, vertex x + 2y + 4z at (x, y, z), each face split into two
+  * counter-clockwise triangles: 12 feature edges (90 degrees), 6 flat diagonals. */
+Mesh
+cube ()
+{
+  Mesh m;
+  for (int i = 0; i < 8; ++i)
+    m.vertices.emplace_back (i & 1, (i >> 1) & 1, (i >> 2) & 1);
+  m.triangles = {{0, 2, 3}, {0, 3, 1}, {4, 5, 7}, {4, 7, 6}, {0, 1, 5}, {0, 5, 4},
+                 {2, 6, 7}, {2, 7, 3}, {0, 4, 6}, {0, 6, 2}, {1, 3, 7}, {1, 7, 5}};
+  return m;
+}
+
+/** The same mesh with its vertices stored in reverse order. */
+Mesh
+reversed (const Mesh& m)
+{
+  const auto n = static_cast<pcl::index_t> (m.vertices.size ());
+  Mesh r;
+  r.vertices.assign (m.vertices.rbegin (), m.vertices.rend ());
+  for (const Triangle& t : m.triangles)
+    r.triangles.push_back ({n - 1 - t[0], n - 1 - t[1], n - 1 - t[2]});
+  return r;
+}
+
+EdgeComparison
+compareCube (const Mesh& mesh, const Mesh& reference = cube ())
+{
+  return compareEdges (mesh.vertices, mesh.triangles, reference.vertices,
+                       reference.triangles);
+}
+
+} // namespace
+
+TEST (MatchVerticesByPosition, ExactPositionsInAnyOrderSmallestIndexFirst)
+{
+  const Eigen::Vector3d p (0.1, 0.2, 0.3), q (-1, 0, 2);
+  const Points3 reference{p, q, p};
+  const double nan = std::numeric_limits<double>::quiet_NaN ();
+  const Points3 points{q, p, {0.1, 0.2, std::nextafter (0.3, 1.0)}, {nan, 0, 0}};
+  const std::vector<pcl::index_t> match = matchVerticesByPosition (points, reference);
+  EXPECT_EQ (match, (std::vector<pcl::index_t>{1, 0, -1, -1}));
+}
+
+TEST (CompareEdges, SameMeshInAnotherVertexOrder)
+{
+  const EdgeComparison c = compareCube (reversed (cube ()));
+  ASSERT_TRUE (c.success) << c.message;
+  EXPECT_EQ (c.edges, 18u);
+  EXPECT_EQ (c.unmatched_vertices, 0u);
+  EXPECT_EQ (c.reference_edges, 18u);
+  EXPECT_DOUBLE_EQ (c.reference_edge_fraction, 1.0);
+  EXPECT_EQ (c.sharp_edges, 12u); // the cube's edges, not the face diagonals
+  EXPECT_EQ (c.sharp_edges_found, 12u);
+  EXPECT_DOUBLE_EQ (c.sharp_edge_fraction, 1.0);
+}
+
+TEST (CompareEdges, FlippedDiagonalKeepsTheFeatureEdges)
+{
+  Mesh mesh = cube ();
+  // Bottom face: diagonal 0-3 becomes 1-2.
+  mesh.triangles[0] = {0, 2, 1};
+  mesh.triangles[1] = {2, 3, 1};
+  const EdgeComparison c = compareCube (reversed (mesh));
+  EXPECT_EQ (c.edges, 18u);
+  EXPECT_EQ (c.reference_edges, 17u);
+  EXPECT_EQ (c.sharp_edges_found, 12u);
+}
+
+TEST (CompareEdges, SwappedFeatureEdgeIsMissing)
+{
+  Mesh mesh = cube ();
+  // Feature edge 0-1 of triangles (0, 1, 5) and (1, 0, 3) becomes 3-5, across the
+  // corner.
+  mesh.triangles[1] = {0, 3, 5};
+  mesh.triangles[4] = {3, 1, 5};
+  const EdgeComparison c = compareCube (mesh);
+  EXPECT_EQ (c.edges, 18u);
+  EXPECT_EQ (c.reference_edges, 17u);
+  EXPECT_EQ (c.sharp_edges, 12u);
+  EXPECT_EQ (c.sharp_edges_found, 11u);
+  EXPECT_NEAR (c.sharp_edge_fraction, 11.0 / 12.0, 1e-15);
+  ASSERT_EQ (c.missing_sharp_edges.size (), 1u);
+  EXPECT_EQ (c.missing_sharp_edges[0], (std::array<pcl::index_t, 2>{0, 1}));
+}
+
+TEST (CompareEdges, MovedVertexMatchesNothing)
+{
+  Mesh mesh = cube ();
+  mesh.vertices[0].x () = std::nextafter (0.0, -1.0);
+  const EdgeComparison c = compareCube (mesh);
+  EXPECT_EQ (c.unmatched_vertices, 1u);
+  EXPECT_EQ (c.reference_edges, 18u - 6u); // vertex 0 has six edges
+  EXPECT_EQ (c.sharp_edges_found, 12u - 3u);
+}
+
+TEST (CompareEdges, ReferenceSeamsAreJoined)
+{
+  // The reference's left face uses a copy (vertex 8) of corner 0: its edges still
+  // count, and the edge 0-2 between the bottom and the left face is still sharp.
+  Mesh reference = cube ();
+  reference.vertices.push_back (reference.vertices[0]);
+  reference.triangles[8] = {8, 4, 6};
+  reference.triangles[9] = {8, 6, 2};
+  const EdgeComparison c = compareCube (cube (), reference);
+  EXPECT_EQ (c.reference_edges, 18u);
+  EXPECT_EQ (c.sharp_edges, 12u);
+  EXPECT_EQ (c.sharp_edges_found, 12u);
 }

@@ -6,6 +6,7 @@
 
 #include <pcl/surface/meshless/types.h>
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -132,6 +133,70 @@ compareToReference (const Points3& vertices,
                     const Points3& reference_vertices,
                     const Triangles& reference_triangles,
                     const MeshDistanceOptions& options = {});
+
+/** \brief For each vertex, the reference vertex at exactly the same position.
+  *
+  * Coordinates are compared exactly (no tolerance): meant for a cloud made of a mesh's
+  * vertices, in any order. Where several reference vertices share a position, the
+  * one with the smallest index stands for all of them.
+  * \param[in] vertices the points to look up
+  * \param[in] reference_vertices the vertices to look them up in
+  * \return #vertices indices into reference_vertices, -1 where no reference vertex
+  *         has the same coordinates (or the point is not finite)
+  */
+std::vector<pcl::index_t>
+matchVerticesByPosition (const Points3& vertices, const Points3& reference_vertices);
+
+struct EdgeComparisonOptions
+{
+  /** \brief Default: 30. A reference edge is sharp when the normals of its two
+    * triangles turn by more than this angle (degrees): fandisk's feature lines turn by
+    * 45 to 90 degrees, its smooth parts by a few. */
+  double sharp_angle_deg = 30.0;
+};
+
+/** \brief Which edges of a mesh are edges of a reference mesh, for a mesh whose
+  * vertices are (some of) the reference's vertices. */
+struct EdgeComparison : StageStatus
+{
+  /** \brief Distinct undirected edges of the mesh. */
+  std::size_t edges = 0;
+  /** \brief Vertices used by the mesh with no reference vertex at their position;
+    * their edges count as not found. */
+  std::size_t unmatched_vertices = 0;
+  /** \brief Edges of the mesh that are edges of the reference. */
+  std::size_t reference_edges = 0;
+  /** \brief reference_edges / edges (0 without edges). 1 means the mesh has the
+    * reference's connectivity wherever they share vertices. */
+  double reference_edge_fraction = 0.0;
+  /** \brief Interior reference edges whose two triangles turn by more than
+    * EdgeComparisonOptions::sharp_angle_deg (the model's feature lines). */
+  std::size_t sharp_edges = 0;
+  /** \brief Of those, the ones that are edges of the mesh. */
+  std::size_t sharp_edges_found = 0;
+  /** \brief sharp_edges_found / sharp_edges (0 without sharp edges). */
+  double sharp_edge_fraction = 0.0;
+  /** \brief The sharp edges the mesh lacks, as pairs of reference vertex indices
+    * (for pictures and diagnostics), sorted. */
+  std::vector<std::array<pcl::index_t, 2>> missing_sharp_edges;
+};
+
+/** \brief Counts the mesh's edges that are reference edges, and the reference's sharp
+  * edges that the mesh has, matching vertices by exact position
+  * (matchVerticesByPosition), so the two vertex arrays need not share an order.
+  * Triangles with an index out of range are ignored; an edge is counted once however
+  * many triangles use it. Deterministic; never throws (fails with a message when out
+  * of memory).
+  * \param[in] vertices, triangles the mesh
+  * \param[in] reference_vertices, reference_triangles the reference mesh
+  * \param[in] options what makes a reference edge sharp
+  */
+EdgeComparison
+compareEdges (const Points3& vertices,
+              const Triangles& triangles,
+              const Points3& reference_vertices,
+              const Triangles& reference_triangles,
+              const EdgeComparisonOptions& options = {});
 
 } // namespace meshless
 } // namespace pcl
