@@ -8,25 +8,14 @@
 // camera (needs an X display; run under xvfb-run on a headless machine).
 #include "cloud_io.h"
 #include "greedy_projection.h"
+#include "mesh_render.h"
 
 #include <pcl/common/common.h>
 #include <pcl/filters/filter.h>
-#include <pcl/io/vtk_lib_io.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/meshless/mesh_checks.h>
 #include <pcl/surface/meshless/mesh_distance.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
-
-#include <vtkActor.h>
-#include <vtkAutoInit.h>
-#include <vtkCamera.h>
-#include <vtkPNGWriter.h>
-#include <vtkPolyDataMapper.h>
-#include <vtkProperty.h>
-#include <vtkRenderWindow.h>
-#include <vtkRenderer.h>
-#include <vtkSmartPointer.h>
-#include <vtkWindowToImageFilter.h>
 
 #include <malloc.h>
 
@@ -37,8 +26,6 @@
 #include <fstream>
 #include <optional>
 #include <string>
-
-VTK_MODULE_INIT (vtkRenderingOpenGL2);
 
 namespace {
 
@@ -124,51 +111,6 @@ struct MethodResult
   pcl::meshless::MeshReport report;
   std::optional<pcl::meshless::MeshDistanceReport> distance;
 };
-
-std::string
-renderPng (const pcl::PolygonMesh& mesh, const Cloud& cloud, int size,
-           const std::string& path)
-{
-  vtkSmartPointer<vtkPolyData> poly_data;
-  pcl::io::mesh2vtk (mesh, poly_data);
-  auto mapper = vtkSmartPointer<vtkPolyDataMapper>::New ();
-  mapper->SetInputData (poly_data);
-  mapper->ScalarVisibilityOff ();
-  auto actor = vtkSmartPointer<vtkActor>::New ();
-  actor->SetMapper (mapper);
-  // Both sides alike (VTK lights both): the picture compares the surfaces, the table
-  // says which orientations are inconsistent.
-  actor->GetProperty ()->SetColor (0.85, 0.85, 0.80);
-
-  auto renderer = vtkSmartPointer<vtkRenderer>::New ();
-  renderer->AddActor (actor);
-  renderer->SetBackground (1.0, 1.0, 1.0);
-  // The same camera for every method: from the front (+z, y up), a little from the
-  // right and above so that flat faces are not seen edge-on or face-on, fitted to the
-  // cloud's bounding box whatever triangles the method made.
-  pcl::PointXYZ lo, hi;
-  pcl::getMinMax3D (cloud, lo, hi);
-  double bounds[6] = {lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
-  vtkCamera* camera = renderer->GetActiveCamera ();
-  camera->SetFocalPoint (0.0, 0.0, 0.0);
-  camera->SetPosition (0.5, 0.4, 1.0);
-  camera->SetViewUp (0.0, 1.0, 0.0);
-  renderer->ResetCamera (bounds);
-
-  auto window = vtkSmartPointer<vtkRenderWindow>::New ();
-  window->SetOffScreenRendering (1);
-  window->SetSize (size, size);
-  window->AddRenderer (renderer);
-  window->Render ();
-  auto image = vtkSmartPointer<vtkWindowToImageFilter>::New ();
-  image->SetInput (window);
-  image->Update ();
-  auto writer = vtkSmartPointer<vtkPNGWriter>::New ();
-  writer->SetFileName (path.c_str ());
-  writer->SetInputConnection (image->GetOutputPort ());
-  writer->Write ();
-  return writer->GetErrorCode () == 0 ? "" : "cannot write " + path;
-}
 
 pcl::meshless::Points3
 toPoints (const Cloud& cloud)
@@ -366,13 +308,20 @@ run (int argc, char** argv)
   if (!out_dir.empty ()) {
     const std::string stem = std::filesystem::path (input).stem ().string ();
     const bool can_render = std::getenv ("DISPLAY") != nullptr;
+    // The same camera for every method, fitted to the cloud's bounding box whatever
+    // triangles the method made.
+    pcl::PointXYZ lo, hi;
+    pcl::getMinMax3D (*cloud, lo, hi);
+    const std::array<double, 6> bounds{lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
+    meshless_tools::RenderOptions render;
+    render.size = picture_size;
     for (std::size_t m = 0; m < results.size (); ++m) {
       const std::string base = (std::filesystem::path (out_dir) /
                                 (stem + (m == 0 ? "_greedy" : "_spherical")))
                                    .string ();
       error = meshless_tools::saveMesh (base + ".ply", results[m].mesh);
       if (error.empty () && can_render)
-        error = renderPng (results[m].mesh, *cloud, picture_size, base + ".png");
+        error = meshless_tools::renderPng (results[m].mesh, bounds, base + ".png", render);
       if (!error.empty ())
         return fail (error);
     }

@@ -4,6 +4,7 @@
  */
 #include <pcl/surface/meshless/edge_swap.h>
 #include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/mesh_distance.h>
 
 #include <gtest/gtest.h>
 
@@ -136,6 +137,24 @@ shakenSphere (int levels, double amplitude, std::uint32_t seed, Points3& points,
   std::uniform_real_distribution<double> offset (-amplitude, amplitude);
   for (auto& p : points)
     p += Eigen::Vector3d (offset (random), offset (random), offset (random));
+}
+
+/** z = -slope |x - y| on an n x n grid, every cell cut by its anti-diagonal: a ridge
+  * along x = y that the cells along it cross. */
+void
+ridgeGrid (int n, double slope, Points3& points, Triangles& triangles)
+{
+  points.clear ();
+  triangles.clear ();
+  for (int j = 0; j < n; ++j)
+    for (int i = 0; i < n; ++i)
+      points.emplace_back (i, j, -slope * std::abs (i - j));
+  const auto id = [n] (int i, int j) { return static_cast<pcl::index_t> (j * n + i); };
+  for (int j = 0; j + 1 < n; ++j)
+    for (int i = 0; i + 1 < n; ++i) {
+      triangles.push_back ({id (i, j), id (i + 1, j), id (i, j + 1)});
+      triangles.push_back ({id (i + 1, j), id (i + 1, j + 1), id (i, j + 1)});
+    }
 }
 
 /** The topology and boundary of `after` match `before`, and nothing is duplicated. */
@@ -395,6 +414,32 @@ TEST (EdgeSwap, EmptyMeshIsFine)
   EXPECT_EQ (result.swaps, 0u);
 }
 
+TEST (EdgeSwap, FlatEdgesAreLeftToTheAnglePass)
+{
+  // The ridge of RidgeEdgesAppearInHeightField made shallow: its faces turn by 4.9
+  // degrees, below descent_min_dihedral_deg, so the descent leaves the cells alone.
+  const int n = 7;
+  Points3 points;
+  Triangles triangles;
+  ridgeGrid (n, 0.03, points, triangles);
+  const auto id = [n] (int i, int j) { return static_cast<pcl::index_t> (j * n + i); };
+  EdgeSwapOptions options;
+  options.improve_angles = false;
+  Triangles work = triangles;
+  EdgeSwapResult result = optimizeBySwaps (points, work, options);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_EQ (result.descent_swaps, 0u);
+  EXPECT_EQ (work, triangles);
+  // Without the bound the descent finds the ridge, as on the steep one.
+  options.descent_min_dihedral_deg = 0.0;
+  work = triangles;
+  result = optimizeBySwaps (points, work, options);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_EQ (result.descent_swaps, static_cast<std::size_t> (n - 1));
+  for (int i = 0; i + 1 < n; ++i)
+    EXPECT_TRUE (hasEdge (work, id (i, i), id (i + 1, i + 1))) << "ridge edge " << i;
+}
+
 TEST (EdgeSwap, PassesAreCountedSeparately)
 {
   Points3 points;
@@ -405,6 +450,58 @@ TEST (EdgeSwap, PassesAreCountedSeparately)
   EXPECT_GT (result.descent_swaps, 0u);
   EXPECT_EQ (result.swaps,
              result.descent_swaps + result.intersection_swaps + result.angle_swaps);
+}
+
+TEST (EdgeSwap, NoisyInputStaysCloseToTheSurface)
+{
+  // 642 points of the unit sphere shaken by up to 0.08 in each coordinate, about
+  // 60% of their spacing: the median turn between adjacent faces is 35 degrees, so
+  // the input counts as noisy. Lowering the curvature alone moves the surface off
+  // the true sphere (here by 7%); with the rule the mesh ends closer to it than it
+  // started, its normals closer too, and no pair of triangles left intersecting.
+  Points3 points, sphere_points;
+  Triangles triangles, sphere;
+  shakenSphere (3, 0.08, 11, points, triangles);
+  icosphere (6, sphere_points, sphere);
+  MeshDistanceOptions distance_options;
+  distance_options.samples = 50000;
+  const MeshDistanceReport before =
+      compareToReference (points, triangles, sphere_points, sphere, distance_options);
+  ASSERT_TRUE (before.success) << before.message;
+
+  Triangles work = triangles;
+  const EdgeSwapResult result = optimizeBySwaps (points, work);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_TRUE (result.noisy) << "median dihedral " << result.median_dihedral_deg;
+  EXPECT_GT (result.descent_swaps, 0u);
+  const MeshDistanceReport after =
+      compareToReference (points, work, sphere_points, sphere, distance_options);
+  EXPECT_LT (after.two_sided.mean, before.two_sided.mean);
+  EXPECT_LT (after.normal_deviation_deg, before.normal_deviation_deg);
+  EXPECT_LT (result.self_intersections_after, result.self_intersections_before);
+  expectSameTopology (points, triangles, work);
+
+  // The rule off: the descent pulls the surface away from the sphere.
+  EdgeSwapOptions off;
+  off.noisy_median_dihedral_deg = 180.0;
+  Triangles free = triangles;
+  const EdgeSwapResult unruled = optimizeBySwaps (points, free, off);
+  ASSERT_TRUE (unruled.success) << unruled.message;
+  EXPECT_FALSE (unruled.noisy);
+  const MeshDistanceReport far =
+      compareToReference (points, free, sphere_points, sphere, distance_options);
+  EXPECT_GT (far.two_sided.mean, before.two_sided.mean);
+}
+
+TEST (EdgeSwap, CleanSphereIsNotNoisy)
+{
+  Points3 points;
+  Triangles triangles;
+  scrambledSphere (points, triangles);
+  const EdgeSwapResult result = optimizeBySwaps (points, triangles);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_FALSE (result.noisy);
+  EXPECT_LT (result.median_dihedral_deg, 25.0);
 }
 
 TEST (EdgeSwap, IntersectionCountsMatchCheckMesh)

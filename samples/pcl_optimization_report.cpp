@@ -1,0 +1,606 @@
+// pcl_optimization_report [CLOUD[=REFERENCE] ...] [options]
+//
+// What the edge-swap optimization (pcl::meshless::optimizeBySwaps) does to the
+// reconstruction of each cloud, before -> after, as markdown tables:
+// - before: pcl::SphericalMeshlessReconstruction with setOptimize (false), the raw
+//   triangulation (the class's thin-part retry included);
+// - after: optimizeBySwaps on that same triangulation with the options under test
+//   (the library's defaults unless options below say otherwise), timed on its own;
+// - share: the class with the optimization on (same options) run as a user runs it;
+//   the time of its "optimize" stages (both attempts when it retries) over the whole
+//   reconstruct () call, the median over -repeat runs.
+// Quality: normal deviation and two-sided distance to the reference mesh
+// (compareToReference), smallest angles and self-intersecting pairs (checkMesh), the
+// share of edges that are reference edges and of the reference's sharp edges present
+// (compareEdges; only where the cloud is made of the reference's vertices).
+// With -out, NAME_before.png and NAME_after.png show both meshes with their edges
+// and the reference's sharp edges the mesh misses in red (under xvfb-run when
+// headless).
+#include "cloud_io.h"
+#ifdef MESHLESS_WITH_RENDER
+#include "mesh_render.h"
+#endif
+
+#include <pcl/common/common.h>
+#include <pcl/filters/filter.h>
+#include <pcl/surface/meshless/edge_swap.h>
+#include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/mesh_distance.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <vector>
+
+namespace {
+
+using Cloud = pcl::PointCloud<pcl::PointXYZ>;
+using Clock = std::chrono::steady_clock;
+namespace meshless = pcl::meshless;
+
+/** The issue's clouds: each made of its reference's vertices, except the noisy one,
+  * whose reference is the mesh it was sampled from. */
+const char* const default_clouds[] = {"fandisk_6475", "armadillo_igl", "bunny_igl", "horse",
+                                      "armadillo_noisy_100k=armadillo_igl"};
+
+void
+usage (const char* program)
+{
+  std::printf (
+      "usage: %s [CLOUD[=REFERENCE] ...] [options]\n"
+      "CLOUD      a path (.pcd, .ply, .xyz) or a name in DATA/clouds (NAME.pcd)\n"
+      "REFERENCE  a path or a name in DATA/meshes; default DATA/meshes/NAME.ply if it\n"
+      "           exists. Without CLOUD: %s, %s, %s, %s, %s\n"
+      "options:\n"
+      "  -data DIR        shared data directory (default ../../shared/data, or\n"
+      "                   $MESHLESS_DATA_DIR)\n"
+      "  -repeat N        timing runs of the whole reconstruction per cloud (median,\n"
+      "                   default 1; 0: none)\n"
+      "  -samples N       points sampled per mesh for distances (default 100000)\n"
+      "  -out DIR         pictures NAME_before.png, NAME_after.png (needs DISPLAY)\n"
+      "  -size P          picture size in pixels (default 800)\n"
+      "  -view X,Y,Z      camera direction from the model (default 0.5,0.4,1: front,\n"
+      "                   a little from the right and above, y up)\n"
+      "  -timing-only     only the timing runs (for clouds too large to compare)\n"
+      "optimization options (default: the library's EdgeSwapOptions):\n"
+      "  -cost abn|mean|squared|total\n"
+      "  -descent-min-dihedral DEG  EdgeSwapOptions::descent_min_dihedral_deg\n"
+      "  -noisy-median DEG          EdgeSwapOptions::noisy_median_dihedral_deg\n"
+      "  -angles 0|1      EdgeSwapOptions::improve_angles\n"
+      "  -intersections 0|1  EdgeSwapOptions::remove_self_intersections\n",
+      program, default_clouds[0], default_clouds[1], default_clouds[2], default_clouds[3],
+      default_clouds[4]);
+}
+
+int
+fail (const std::string& reason)
+{
+  std::fprintf (stderr, "pcl_optimization_report: %s\n", reason.c_str ());
+  return 1;
+}
+
+double
+secondsSince (Clock::time_point start)
+{
+  return std::chrono::duration<double> (Clock::now () - start).count ();
+}
+
+double
+median (std::vector<double> values)
+{
+  if (values.empty ())
+    return 0.0;
+  std::sort (values.begin (), values.end ());
+  const std::size_t m = values.size () / 2;
+  return values.size () % 2 ? values[m] : 0.5 * (values[m - 1] + values[m]);
+}
+
+meshless::Triangles
+toTriangles (const pcl::PolygonMesh& mesh)
+{
+  meshless::Triangles triangles;
+  triangles.reserve (mesh.polygons.size ());
+  for (const auto& polygon : mesh.polygons)
+    if (polygon.vertices.size () == 3)
+      triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
+                            static_cast<pcl::index_t> (polygon.vertices[1]),
+                            static_cast<pcl::index_t> (polygon.vertices[2])});
+  return triangles;
+}
+
+/** What one mesh measures. */
+struct Metrics
+{
+  meshless::MeshReport check;
+  bool sphere_like = false; // closed, manifold, oriented outward, one component,
+                            // Euler 2, 2n - 4 triangles, every point used
+  std::optional<meshless::MeshDistanceReport> distance;
+  std::optional<meshless::EdgeComparison> edges;
+};
+
+/** Timing of the class as a user runs it. */
+struct Timing
+{
+  double total = 0.0, optimize = 0.0, share = 0.0;
+  std::size_t swaps = 0, attempts = 0;
+  bool retry = false;
+  std::size_t pairs = 0;
+};
+
+struct Row
+{
+  std::string name;
+  std::size_t points = 0;
+  Metrics before, after;
+  meshless::EdgeSwapResult optimization;
+  double optimize_alone = 0.0;
+  bool before_retry = false;
+  Timing timing;
+  bool compared = false;
+};
+
+Metrics
+measure (const meshless::Points3& vertices, const meshless::Triangles& triangles,
+         const meshless::Points3* reference_vertices,
+         const meshless::Triangles* reference_triangles,
+         const meshless::MeshDistanceOptions& distance_options)
+{
+  Metrics m;
+  m.check = meshless::checkMesh (vertices, triangles);
+  m.sphere_like = m.check.isSphereLike () && m.check.signed_volume > 0.0 &&
+                  m.check.unused_vertices == 0 &&
+                  m.check.num_triangles == 2 * vertices.size () - 4;
+  if (reference_vertices) {
+    m.distance = meshless::compareToReference (vertices, triangles, *reference_vertices,
+                                               *reference_triangles, distance_options);
+    m.edges = meshless::compareEdges (vertices, triangles, *reference_vertices,
+                                      *reference_triangles);
+  }
+  return m;
+}
+
+/** Runs the class once with the given optimization setting; fills mesh and returns
+  * the wall time of reconstruct (), adding the optimize stages' time to *optimize. */
+double
+reconstruct (const Cloud::ConstPtr& cloud, bool optimize,
+             const meshless::EdgeSwapOptions& options, pcl::PolygonMesh& mesh,
+             double* optimize_seconds, std::size_t* optimize_stages,
+             pcl::SphericalMeshlessReport* report)
+{
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  reconstruction.setOptimize (optimize);
+  reconstruction.setOptimizationOptions (options);
+  double in_optimize = 0.0;
+  std::size_t stages = 0;
+  reconstruction.setProgressCallback ([&] (const meshless::ProgressReport& stage) {
+    if (stage.stage == "optimize") {
+      in_optimize += stage.seconds;
+      ++stages;
+    }
+    return true;
+  });
+  const auto start = Clock::now ();
+  reconstruction.reconstruct (mesh);
+  const double seconds = secondsSince (start);
+  if (optimize_seconds)
+    *optimize_seconds = in_optimize;
+  if (optimize_stages)
+    *optimize_stages = stages;
+  if (report)
+    *report = reconstruction.getReport ();
+  return seconds;
+}
+
+std::string
+format (const char* pattern, double value)
+{
+  char buffer[64];
+  std::snprintf (buffer, sizeof (buffer), pattern, value);
+  return buffer;
+}
+
+std::string
+describe (const meshless::EdgeSwapOptions& o)
+{
+  const char* costs[] = {"angle between normals", "integrated mean curvature",
+                         "squared mean curvature", "total absolute curvature"};
+  return std::string ("cost ") + costs[static_cast<int> (o.cost)] +
+         ", descent from dihedral " + format ("%g deg", o.descent_min_dihedral_deg) +
+         ", noisy from median dihedral " + format ("%g deg", o.noisy_median_dihedral_deg) +
+         ", fold bound " + format ("%g deg", o.max_fold_angle_deg) +
+         ", remove intersections " + (o.remove_self_intersections ? "on" : "off") +
+         ", angle pass " + (o.improve_angles ? "on" : "off") +
+         (o.max_swaps ? ", at most " + std::to_string (o.max_swaps) + " swaps" : "");
+}
+
+std::string
+arrow (const std::string& before, const std::string& after)
+{
+  return before + " -> " + after;
+}
+
+/** The metric rows of one cloud: name, before, after. */
+std::vector<std::array<std::string, 3>>
+metricRows (const Row& r)
+{
+  std::vector<std::array<std::string, 3>> rows;
+  const auto add = [&rows] (const std::string& name, const std::string& b,
+                            const std::string& a) { rows.push_back ({name, b, a}); };
+  const auto invariants = [] (const Metrics& m) {
+    return m.sphere_like ? std::string ("all hold") : "FAIL: " + meshless::describe (m.check);
+  };
+  add ("invariants (closed, manifold, oriented, 2n-4, Euler 2)", invariants (r.before),
+       invariants (r.after));
+  add ("swaps (descent + intersection removal + angle pass)", "-",
+       std::to_string (r.optimization.swaps) + " (" +
+           std::to_string (r.optimization.descent_swaps) + " + " +
+           std::to_string (r.optimization.intersection_swaps) + " + " +
+           std::to_string (r.optimization.angle_swaps) + ")");
+  add ("optimize time (alone, this triangulation)", "-", format ("%.3f s", r.optimize_alone));
+  if (r.compared)
+    add ("input median dihedral (noisy input rule)", "-",
+         format ("%.1f deg", r.optimization.median_dihedral_deg) +
+             (r.optimization.noisy ? " (on)" : " (off)"));
+  if (r.timing.attempts > 0)
+    add ("optimize time / whole run (class, median)", "-",
+         format ("%.3f s", r.timing.optimize) + " / " + format ("%.3f s", r.timing.total) +
+             " = " + format ("%.0f%%", 100.0 * r.timing.share) +
+             (r.timing.retry ? " (2 attempts)" : ""));
+  if (!r.compared)
+    return rows;
+  const auto distance = [] (const Metrics& m, int which) -> std::string {
+    if (!m.distance || !m.distance->success)
+      return "-";
+    const auto& d = m.distance->two_sided;
+    return format ("%.2e", which == 0 ? d.mean : which == 1 ? d.p99 : d.max);
+  };
+  const auto normal = [] (const Metrics& m) -> std::string {
+    return m.distance && m.distance->success
+               ? format ("%.3f deg", m.distance->normal_deviation_deg)
+               : "-";
+  };
+  add ("normal deviation", normal (r.before), normal (r.after));
+  add ("distance mean", distance (r.before, 0), distance (r.after, 0));
+  add ("distance p99", distance (r.before, 1), distance (r.after, 1));
+  add ("distance max", distance (r.before, 2), distance (r.after, 2));
+  const auto one_sided = [] (const Metrics& m) -> std::string {
+    if (!m.distance || !m.distance->success)
+      return "-";
+    return format ("%.2e", m.distance->to_reference.mean) + " / " +
+           format ("%.2e", m.distance->from_reference.mean);
+  };
+  add ("distance mean: mesh to reference / reference to mesh", one_sided (r.before),
+       one_sided (r.after));
+  add ("mean smallest angle", format ("%.2f deg", r.before.check.mean_min_angle_deg),
+       format ("%.2f deg", r.after.check.mean_min_angle_deg));
+  add ("smallest angle < 10 deg",
+       format ("%.2f%%", 100.0 * r.before.check.share_min_angle_below_10),
+       format ("%.2f%%", 100.0 * r.after.check.share_min_angle_below_10));
+  // Edge agreement only means something when the cloud is the reference's vertices.
+  const auto matched = [] (const Metrics& m) {
+    return m.edges && m.edges->success && m.edges->unmatched_vertices == 0;
+  };
+  const auto edge_fraction = [&] (const Metrics& m) -> std::string {
+    return matched (m) ? format ("%.4f", m.edges->reference_edge_fraction) : "-";
+  };
+  const auto sharp = [&] (const Metrics& m) -> std::string {
+    if (!matched (m) || m.edges->sharp_edges == 0)
+      return "-";
+    return format ("%.4f", m.edges->sharp_edge_fraction) + " (" +
+           std::to_string (m.edges->sharp_edges_found) + " of " +
+           std::to_string (m.edges->sharp_edges) + ")";
+  };
+  add ("edges that are reference edges", edge_fraction (r.before), edge_fraction (r.after));
+  add ("reference sharp edges (> 30 deg) present", sharp (r.before), sharp (r.after));
+  add ("self-intersecting pairs", std::to_string (r.before.check.self_intersecting_pairs),
+       std::to_string (r.after.check.self_intersecting_pairs));
+  return rows;
+}
+
+void
+printCloud (const Row& r)
+{
+  std::printf ("\n%s (%zu points)%s:\n\n| metric | before | after |\n|---|---|---|\n",
+               r.name.c_str (), r.points,
+               r.before_retry ? ", raw triangulation from the thin-part retry" : "");
+  for (const auto& row : metricRows (r))
+    std::printf ("| %s | %s | %s |\n", row[0].c_str (), row[1].c_str (), row[2].c_str ());
+  std::fflush (stdout);
+}
+
+void
+printSummary (const std::vector<Row>& rows)
+{
+  std::printf ("\nSummary (before -> after):\n\n"
+               "| cloud | swaps | optimize / whole run | normal deviation (deg) | "
+               "distance mean / p99 / max | mean smallest angle (deg) | < 10 deg | "
+               "reference edges | sharp edges | intersecting pairs |\n"
+               "|---|---|---|---|---|---|---|---|---|---|\n");
+  for (const Row& r : rows) {
+    const auto cells = metricRows (r);
+    const auto find = [&cells] (const std::string& name) -> const std::array<std::string, 3>* {
+      for (const auto& c : cells)
+        if (c[0] == name)
+          return &c;
+      return nullptr;
+    };
+    const auto pair = [&] (const std::string& name) -> std::string {
+      const auto* c = find (name);
+      if (!c)
+        return "-";
+      return (*c)[1] == "-" && (*c)[2] == "-" ? "-" : arrow ((*c)[1], (*c)[2]);
+    };
+    std::string share = "-";
+    if (r.timing.attempts > 0)
+      share = format ("%.2f s", r.timing.optimize) + " / " + format ("%.2f s", r.timing.total) +
+              " (" + format ("%.0f%%", 100.0 * r.timing.share) + ")";
+    std::string distance = "-";
+    if (r.compared && find ("distance mean"))
+      distance = arrow ((*find ("distance mean"))[1] + " / " + (*find ("distance p99"))[1] +
+                            " / " + (*find ("distance max"))[1],
+                        (*find ("distance mean"))[2] + " / " + (*find ("distance p99"))[2] +
+                            " / " + (*find ("distance max"))[2]);
+    std::printf ("| %s | %zu | %s | %s | %s | %s | %s | %s | %s | %s |\n", r.name.c_str (),
+                 r.optimization.swaps, share.c_str (), pair ("normal deviation").c_str (),
+                 distance.c_str (), pair ("mean smallest angle").c_str (),
+                 pair ("smallest angle < 10 deg").c_str (),
+                 pair ("edges that are reference edges").c_str (),
+                 pair ("reference sharp edges (> 30 deg) present").c_str (),
+                 pair ("self-intersecting pairs").c_str ());
+  }
+}
+
+#ifdef MESHLESS_WITH_RENDER
+/** Mesh edges drawn, the reference's sharp edges the mesh misses in red. */
+std::string
+picture (const pcl::PolygonMesh& mesh, const Cloud& cloud, const Metrics& metrics,
+         const meshless::Points3& reference_vertices, int size,
+         const std::array<double, 3>& view, const std::string& path)
+{
+  pcl::PointXYZ lo, hi;
+  pcl::getMinMax3D (cloud, lo, hi);
+  meshless_tools::RenderOptions options;
+  options.size = size;
+  options.view = view;
+  options.draw_edges = true;
+  if (metrics.edges && metrics.edges->success) {
+    meshless_tools::LineSet missing;
+    for (const auto& e : metrics.edges->missing_sharp_edges)
+      missing.segments.push_back ({reference_vertices[e[0]], reference_vertices[e[1]]});
+    options.lines.push_back (missing);
+  }
+  return meshless_tools::renderPng (mesh, {lo.x, hi.x, lo.y, hi.y, lo.z, hi.z}, path,
+                                    options);
+}
+#endif
+
+int
+run (int argc, char** argv)
+{
+  std::string data_dir = std::getenv ("MESHLESS_DATA_DIR") ? std::getenv ("MESHLESS_DATA_DIR")
+                                                           : "../../shared/data";
+  std::string out_dir;
+  int repeat = 1, picture_size = 800;
+  std::array<double, 3> view{0.5, 0.4, 1.0};
+  bool timing_only = false;
+  meshless::MeshDistanceOptions distance_options;
+  meshless::EdgeSwapOptions options;
+  std::vector<std::string> specs;
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    auto value = [&] () -> std::string {
+      if (!has_value)
+        throw std::invalid_argument (arg + " needs a value");
+      return argv[++i];
+    };
+    try {
+      if (arg == "-h" || arg == "--help") {
+        usage (argv[0]);
+        return 0;
+      }
+      else if (arg == "-data")
+        data_dir = value ();
+      else if (arg == "-out")
+        out_dir = value ();
+      else if (arg == "-repeat")
+        repeat = std::max (0, std::stoi (value ()));
+      else if (arg == "-samples")
+        distance_options.samples = static_cast<std::size_t> (std::max (1L, std::stol (value ())));
+      else if (arg == "-size")
+        picture_size = std::clamp (std::stoi (value ()), 16, 4096);
+      else if (arg == "-timing-only")
+        timing_only = true;
+      else if (arg == "-view") {
+        const std::string v = value ();
+        if (std::sscanf (v.c_str (), "%lf,%lf,%lf", &view[0], &view[1], &view[2]) != 3)
+          return fail ("-view takes X,Y,Z");
+      }
+      else if (arg == "-cost") {
+        const std::string c = value ();
+        if (c == "abn")
+          options.cost = meshless::SwapCost::AngleBetweenNormals;
+        else if (c == "mean")
+          options.cost = meshless::SwapCost::IntegratedMeanCurvature;
+        else if (c == "squared")
+          options.cost = meshless::SwapCost::SquaredMeanCurvature;
+        else if (c == "total")
+          options.cost = meshless::SwapCost::TotalAbsoluteCurvature;
+        else
+          return fail ("-cost takes abn, mean, squared or total");
+      }
+      else if (arg == "-descent-min-dihedral")
+        options.descent_min_dihedral_deg = std::stod (value ());
+      else if (arg == "-noisy-median")
+        options.noisy_median_dihedral_deg = std::stod (value ());
+      else if (arg == "-angles")
+        options.improve_angles = value () == "1";
+      else if (arg == "-intersections")
+        options.remove_self_intersections = value () == "1";
+      else if (arg.size () > 1 && arg[0] == '-')
+        return fail ("unknown option " + arg + " (see -h)");
+      else
+        specs.push_back (arg);
+    } catch (const std::invalid_argument& e) {
+      return fail (std::string ("option ") + arg + ": " + e.what ());
+    } catch (const std::out_of_range&) {
+      return fail ("option " + arg + ": value out of range");
+    }
+  }
+  if (specs.empty ())
+    specs.assign (std::begin (default_clouds), std::end (default_clouds));
+#ifndef MESHLESS_WITH_RENDER
+  if (!out_dir.empty ())
+    return fail ("-out needs VTK's OpenGL rendering, which this build lacks");
+#endif
+  if (!out_dir.empty ())
+    std::filesystem::create_directories (out_dir);
+
+  std::printf ("optimization options: %s\n", describe (options).c_str ());
+  std::vector<Row> rows;
+  for (const std::string& spec : specs) {
+    // CLOUD[=REFERENCE]; bare names are looked up in the data directory.
+    const auto eq = spec.find ('=');
+    std::string cloud_path = spec.substr (0, eq), reference_path;
+    if (eq != std::string::npos)
+      reference_path = spec.substr (eq + 1);
+    const auto resolve = [&data_dir] (const std::string& s, const char* sub, const char* ext) {
+      return std::filesystem::exists (s) ? s : data_dir + "/" + sub + "/" + s + ext;
+    };
+    cloud_path = resolve (cloud_path, "clouds", ".pcd");
+    const std::string stem = std::filesystem::path (cloud_path).stem ().string ();
+    if (reference_path.empty ()) {
+      const std::string guess = data_dir + "/meshes/" + stem + ".ply";
+      if (std::filesystem::exists (guess))
+        reference_path = guess;
+    }
+    else
+      reference_path = resolve (reference_path, "meshes", ".ply");
+
+    auto loaded = pcl::make_shared<Cloud> ();
+    std::string error = meshless_tools::loadCloud (cloud_path, *loaded);
+    if (!error.empty ())
+      return fail (error);
+    auto cloud = pcl::make_shared<Cloud> ();
+    pcl::Indices kept;
+    pcl::removeNaNFromPointCloud (*loaded, *cloud, kept);
+    Row row;
+    row.name = stem;
+    row.points = cloud->size ();
+    // Original coordinates for the metrics (exact matches with the reference); the
+    // optimizer gets them centred, as the class gives them to it.
+    meshless::Points3 vertices, centred;
+    for (const auto& p : *cloud)
+      vertices.emplace_back (p.x, p.y, p.z);
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
+    for (const auto& v : vertices)
+      centroid += v;
+    centroid /= static_cast<double> (std::max<std::size_t> (1, vertices.size ()));
+    for (const auto& v : vertices)
+      centred.push_back (v - centroid);
+
+    meshless::Points3 reference_vertices;
+    meshless::Triangles reference_triangles;
+    if (!reference_path.empty () && !timing_only) {
+      error = meshless_tools::loadMesh (reference_path, reference_vertices, reference_triangles);
+      if (!error.empty ())
+        return fail (error);
+    }
+    const bool with_reference = !reference_triangles.empty ();
+    std::fprintf (stderr, "%s: %zu points, reference %s\n", stem.c_str (), cloud->size (),
+                  with_reference ? reference_path.c_str () : "none");
+
+    // The whole reconstruction as a user runs it, for the share of the time.
+    std::vector<double> totals, optimizes, shares;
+    for (int k = 0; k < repeat; ++k) {
+      pcl::PolygonMesh mesh;
+      pcl::SphericalMeshlessReport report;
+      double optimize = 0.0;
+      std::size_t stages = 0;
+      const double total =
+          reconstruct (cloud, true, options, mesh, &optimize, &stages, &report);
+      if (!report.success)
+        return fail (stem + ": the reconstruction failed: " + report.message);
+      totals.push_back (total);
+      optimizes.push_back (optimize);
+      shares.push_back (optimize / total);
+      row.timing.attempts = stages;
+      row.timing.retry = report.thin_sheet_retry || stages > 1;
+      row.timing.swaps = report.optimization.swaps;
+      row.timing.pairs = report.mesh.self_intersecting_pairs;
+      std::fprintf (stderr, "  run %d: %.3f s, optimize %.3f s (%zu stage%s)\n", k + 1, total,
+                    optimize, stages, stages == 1 ? "" : "s");
+    }
+    row.timing.total = median (totals);
+    row.timing.optimize = median (optimizes);
+    row.timing.share = median (shares);
+
+    if (!timing_only) {
+      pcl::PolygonMesh raw;
+      pcl::SphericalMeshlessReport raw_report;
+      reconstruct (cloud, false, options, raw, nullptr, nullptr, &raw_report);
+      if (!raw_report.success)
+        return fail (stem + ": the raw reconstruction failed: " + raw_report.message);
+      row.before_retry = raw_report.thin_sheet_retry;
+      const meshless::Triangles before = toTriangles (raw);
+      meshless::Triangles after = before;
+      const auto start = Clock::now ();
+      row.optimization = meshless::optimizeBySwaps (centred, after, options);
+      row.optimize_alone = secondsSince (start);
+      if (!row.optimization.success)
+        return fail (stem + ": the optimization failed: " + row.optimization.message);
+      row.compared = true;
+      const auto* rv = with_reference ? &reference_vertices : nullptr;
+      const auto* rt = with_reference ? &reference_triangles : nullptr;
+      row.before = measure (vertices, before, rv, rt, distance_options);
+      row.after = measure (vertices, after, rv, rt, distance_options);
+#ifdef MESHLESS_WITH_RENDER
+      if (!out_dir.empty ()) {
+        if (!std::getenv ("DISPLAY"))
+          return fail ("-out needs a display (run under xvfb-run)");
+        pcl::PolygonMesh optimized = raw;
+        for (std::size_t t = 0; t < after.size (); ++t)
+          for (int k = 0; k < 3; ++k)
+            optimized.polygons[t].vertices[k] = static_cast<pcl::index_t> (after[t][k]);
+        const std::string base = (std::filesystem::path (out_dir) / stem).string ();
+        for (const auto& [mesh, metrics, suffix] :
+             {std::tuple (&raw, &row.before, "_before.png"),
+              std::tuple (&optimized, &row.after, "_after.png")}) {
+          error = picture (*mesh, *cloud, *metrics, reference_vertices, picture_size, view,
+                           base + suffix);
+          if (!error.empty ())
+            return fail (error);
+        }
+      }
+#endif
+    }
+    else
+      row.optimization.swaps = row.timing.swaps;
+    printCloud (row);
+    rows.push_back (std::move (row));
+  }
+  printSummary (rows);
+  return 0;
+}
+
+} // namespace
+
+int
+main (int argc, char** argv)
+{
+  // PCL and VTK may throw (out of memory, unreadable files): one line, exit 1.
+  try {
+    return run (argc, argv);
+  } catch (const std::exception& e) {
+    return fail (e.what ());
+  }
+}
