@@ -275,11 +275,6 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
                      mesh.boundary_loops == 1 + report_.holes &&
                      mesh.euler_characteristic == 1 - static_cast<long> (report_.holes);
-    if (sphere && mesh.isSphereLike () && mesh_triangles.size () == 2 * n - 4 &&
-        mesh.unused_vertices == 0 && !(mesh.signed_volume > 0.0))
-      return "the closed mesh came out inside out (the normals could not be oriented "
-             "outward: too few points, or k close to the cloud's size; check "
-             "setNumberOfNeighbours)";
     if (!valid || mesh.unused_vertices != 0)
       return "the result failed its own check (a bug; please report it with the cloud): " +
              meshless::describe (mesh);
