@@ -861,5 +861,74 @@ areaFacingAgainstNormals (const Points3& vertices,
   return total > 0.0 ? against / total : 0.0;
 }
 
+std::size_t
+distantIntersectingPairs (std::size_t num_vertices,
+                          const Triangles& triangles,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                          std::size_t max_hops)
+{
+  const auto valid = [&] (const Triangle& t) {
+    for (const pcl::index_t v : t)
+      if (v < 0 || static_cast<std::size_t> (v) >= num_vertices)
+        return false;
+    return true;
+  };
+  // Vertex adjacency as compressed rows; an edge shared by two triangles is listed
+  // twice, which a search does not mind.
+  std::vector<std::size_t> offsets (num_vertices + 1, 0);
+  for (const Triangle& t : triangles)
+    if (valid (t))
+      for (const pcl::index_t v : t)
+        offsets[v + 1] += 2;
+  std::partial_sum (offsets.begin (), offsets.end (), offsets.begin ());
+  std::vector<pcl::index_t> adjacent (offsets.back ());
+  std::vector<std::size_t> fill (offsets.begin (), offsets.end () - 1);
+  for (const Triangle& t : triangles)
+    if (valid (t))
+      for (int k = 0; k < 3; ++k) {
+        adjacent[fill[t[k]]++] = t[(k + 1) % 3];
+        adjacent[fill[t[k]]++] = t[(k + 2) % 3];
+      }
+
+  // Breadth-first search from the first triangle, ring by ring, until a vertex of
+  // the second shows up; `seen` holds the number of the search that saw a vertex,
+  // so it is never cleared.
+  std::vector<std::size_t> seen (num_vertices, 0);
+  std::vector<pcl::index_t> ring, next_ring;
+  std::size_t search = 0, distant = 0;
+  for (const auto& [first, second] : pairs) {
+    if (first >= triangles.size () || second >= triangles.size () ||
+        !valid (triangles[first]) || !valid (triangles[second]))
+      continue;
+    ++search;
+    const Triangle& target = triangles[second];
+    const auto isTarget = [&] (pcl::index_t v) {
+      return v == target[0] || v == target[1] || v == target[2];
+    };
+    ring.clear ();
+    bool found = false;
+    for (const pcl::index_t v : triangles[first]) {
+      found = found || isTarget (v);
+      seen[v] = search;
+      ring.push_back (v);
+    }
+    for (std::size_t hop = 0; hop < max_hops && !found && !ring.empty (); ++hop) {
+      next_ring.clear ();
+      for (const pcl::index_t v : ring)
+        for (std::size_t a = offsets[v]; a < offsets[v + 1] && !found; ++a) {
+          const pcl::index_t w = adjacent[a];
+          if (seen[w] == search)
+            continue;
+          seen[w] = search;
+          found = isTarget (w);
+          next_ring.push_back (w);
+        }
+      ring.swap (next_ring);
+    }
+    distant += found ? 0 : 1;
+  }
+  return distant;
+}
+
 } // namespace meshless
 } // namespace pcl

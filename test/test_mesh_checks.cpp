@@ -717,3 +717,48 @@ TEST (MeshChecks, AreaFacingAgainstNormals)
                1e-12);
   EXPECT_DOUBLE_EQ (areaFacingAgainstNormals ({}, {}, {}), 0.0);
 }
+
+TEST (MeshChecks, DistantIntersectingPairsTellFoldsFromCrossings)
+{
+  Mesh m = geodesicSphere (8);
+  const std::size_t n = m.vertices.size ();
+  MeshCheckOptions all;
+  all.max_listed_intersections = 65536;
+  ASSERT_EQ (checkMesh (m.vertices, m.triangles, all).self_intersecting_pairs, 0u);
+
+  // A local fold: vertex 100 moved past its neighbour, so its fan folds over the
+  // triangles around that neighbour.
+  Mesh folded = m;
+  pcl::index_t neighbour = -1;
+  for (const auto& t : m.triangles)
+    for (int k = 0; k < 3; ++k)
+      if (t[k] == 100)
+        neighbour = t[(k + 1) % 3];
+  ASSERT_GE (neighbour, 0);
+  const Eigen::Vector3d step = m.vertices[neighbour] - m.vertices[100];
+  folded.vertices[100] = (m.vertices[neighbour] + 0.6 * step).normalized ();
+  const MeshReport fold = checkMesh (folded.vertices, folded.triangles, all);
+  ASSERT_GT (fold.self_intersecting_pairs, 0u);
+  ASSERT_EQ (fold.intersecting_pairs.size (), fold.self_intersecting_pairs);
+  EXPECT_EQ (distantIntersectingPairs (n, folded.triangles, fold.intersecting_pairs, 2), 0u);
+
+  // A crossing: the same vertex pushed through the far side of the sphere, its fan
+  // cuts the surface about half a circumference (some 20 edges) away.
+  Mesh pierced = m;
+  pierced.vertices[100] *= -1.2;
+  const MeshReport cross = checkMesh (pierced.vertices, pierced.triangles, all);
+  ASSERT_GT (cross.self_intersecting_pairs, 0u);
+  const std::size_t far = distantIntersectingPairs (n, pierced.triangles, cross.intersecting_pairs, 8);
+  EXPECT_GT (far, 0u);
+  EXPECT_LE (far, cross.self_intersecting_pairs);
+  // Every triangle of the sphere is within a few dozen edges of every other.
+  EXPECT_EQ (distantIntersectingPairs (n, pierced.triangles, cross.intersecting_pairs, 100), 0u);
+
+  // Pairs or triangles out of range are ignored, not read.
+  Triangles broken = pierced.triangles;
+  broken.push_back ({0, 1, static_cast<pcl::index_t> (n)});
+  const std::vector<std::pair<std::size_t, std::size_t>> bad{
+      {0, broken.size () + 5}, {broken.size () - 1, 0}};
+  EXPECT_EQ (distantIntersectingPairs (n, broken, bad, 0), 0u);
+  EXPECT_EQ (distantIntersectingPairs (0, {}, {}, 3), 0u);
+}

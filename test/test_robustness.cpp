@@ -540,6 +540,19 @@ TEST (Robustness, GenusOneRockerArmInSphereMode)
   expectHigherGenusContract (reconstruction, expectedVertices (*cloud, indices.get ()));
 }
 
+/** At full resolution the genus-0 mesh through rocker_arm barely faces against
+  * its normals (4% of the area, a genus-0 cow measures 2.5%); what gives it away
+  * is where it intersects itself: between parts of the surface far apart. */
+TEST (Robustness, GenusOneRockerArmFullResolutionInSphereMode)
+{
+  MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/rocker_arm.pcd");
+  auto cloud = loadShared (path);
+  ASSERT_TRUE (cloud);
+  Reconstruction reconstruction;
+  reconstruction.setInputCloud (cloud);
+  expectHigherGenusContract (reconstruction, expectedVertices (*cloud));
+}
+
 TEST (Robustness, GenusFourFertilityInSphereMode)
 {
   MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/fertility.pcd");

@@ -257,6 +257,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     const auto check_start = std::chrono::steady_clock::now ();
     meshless::MeshCheckOptions check;
     check.check_self_intersections = check_self_intersections_;
+    check.max_listed_intersections = 65536; // for distantIntersectingPairs
     mesh = meshless::checkMesh (points, mesh_triangles, check);
     // Outward. A closed, consistently oriented mesh with a negative volume is inside
     // out as a whole: the orientation vote of the normals can be carried by one far
@@ -285,8 +286,10 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     return fail (problem);
 
   // A closed genus-0 surface through a cloud with handles or a boundary has to
-  // turn back over itself: it intersects itself and large parts of it face against
-  // the cloud's oriented normals (see meshless::areaFacingAgainstNormals).
+  // turn back over itself: it intersects itself, and large parts of it face against
+  // the cloud's oriented normals (see meshless::areaFacingAgainstNormals) or it
+  // passes through itself between parts far apart on the mesh, where a local fold
+  // of the triangulation never reaches (see meshless::distantIntersectingPairs).
   auto turnsBack = [&] () {
     report_.area_against_normals =
         sphere ? meshless::areaFacingAgainstNormals (points, triangles, normals) : 0.0;
@@ -294,8 +297,14 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     // everywhere: measure against the normals turned too.
     report_.area_against_normals =
         std::min (report_.area_against_normals, 1.0 - report_.area_against_normals);
+    report_.distant_intersecting_pairs =
+        sphere ? meshless::distantIntersectingPairs (points.size (), triangles,
+                                                     report_.mesh.intersecting_pairs,
+                                                     max_local_fold_hops)
+               : 0;
     return report_.mesh.self_intersecting_pairs > 0 &&
-           report_.area_against_normals > max_area_against_normals;
+           (report_.area_against_normals > max_area_against_normals ||
+            report_.distant_intersecting_pairs > 0);
   };
 
   // Where the surface is thinner than the point spacing, kNN edges join its two
@@ -322,14 +331,19 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   if (sphere && turnsBack ())
     return fail ("the cloud does not look like the surface of one sphere-like object: a "
                  "closed mesh through it intersects itself (" +
-                 std::to_string (report_.mesh.self_intersecting_pairs) + " pairs) and " +
+                 std::to_string (report_.mesh.self_intersecting_pairs) + " pairs" +
+                 (report_.distant_intersecting_pairs > 0
+                      ? ", " + std::to_string (report_.distant_intersecting_pairs) +
+                            " of them between parts of it far apart"
+                      : std::string ()) +
+                 ") and " +
                  std::to_string (static_cast<int> (100.0 * report_.area_against_normals + 0.5)) +
                  "% of its area faces against the cloud's normals (a handle, genus > 0; a "
                  "boundary: use setTopology (Topology::Disc); parts thinner than the point "
                  "spacing: sample them more densely; or far outliers: remove them)");
   if (report_.mesh.self_intersecting_pairs > 0)
-    PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect (noisy or thin "
-              "input); the mesh is %s and oriented all the same\n",
+    PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect in local folds "
+              "(noisy or thin input); the mesh is %s and oriented all the same\n",
               getClassName ().c_str (), report_.mesh.self_intersecting_pairs,
               sphere ? "closed" : "manifold");
 
