@@ -116,6 +116,8 @@ triangulateSphere (const Points3& points,
   const CsrGraph& mutual = surface.mutual;
   const Weights& weights = surface.weights;
   stats.normals_flipped = surface.normals_flipped;
+  stats.thin_part_edges =
+      options.separate_thin_sheets ? surface.sheet_edges_dropped : surface.sheet_edges_droppable;
   stats.weight_fallbacks = weights.num_fallbacks;
 
   // Corners of D only where the ring surrounds the point and the mutual graph

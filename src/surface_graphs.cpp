@@ -11,27 +11,52 @@ namespace meshless {
 
 namespace {
 
+/** Whether the oriented normals of v and w point away from each other: the edge
+  * crosses a part thinner than the point spacing. */
+bool
+acrossThinPart (const SurfaceGraphs& surface, std::size_t v, pcl::index_t w)
+{
+  return surface.ordered.normals[v].dot (surface.ordered.normals[w]) < 0.0f;
+}
+
+/** The graph without the edges across thin parts, and how many (undirected) it
+  * lost; an empty graph if it lost none or would fall apart. */
+CsrGraph
+graphWithoutThinPartEdges (const SurfaceGraphs& surface, std::vector<pcl::index_t>& component, std::size_t& dropped)
+{
+  dropped = 0;
+  for (std::size_t v = 0; v < surface.graph.size (); ++v)
+    for (const pcl::index_t* w = surface.graph.begin (v); w != surface.graph.end (v); ++w)
+      dropped += acrossThinPart (surface, v, *w) ? 1 : 0;
+  dropped /= 2;
+  if (dropped == 0)
+    return {};
+  CsrGraph kept;
+  kept.offsets.assign (surface.graph.size () + 1, 0);
+  for (std::size_t v = 0; v < surface.graph.size (); ++v) {
+    for (const pcl::index_t* w = surface.graph.begin (v); w != surface.graph.end (v); ++w)
+      if (!acrossThinPart (surface, v, *w))
+        kept.adjacency.push_back (*w);
+    kept.offsets[v + 1] = static_cast<pcl::index_t> (kept.adjacency.size ());
+  }
+  if (connectedComponents (kept, component) != 1) {
+    dropped = 0;
+    return {};
+  }
+  return kept;
+}
+
 /** Drops the edges whose oriented normals point away from each other and orders
   * the rings again on the rest (see buildSurfaceGraphs); leaves everything as it
   * is if that would disconnect the graph. */
 void
 separateThinSheets (const Points3& points, std::vector<pcl::index_t>& component, SurfaceGraphs& surface)
 {
-  CsrGraph kept;
-  kept.offsets.assign (surface.graph.size () + 1, 0);
   std::size_t dropped = 0;
-  for (std::size_t v = 0; v < surface.graph.size (); ++v) {
-    for (const pcl::index_t* w = surface.graph.begin (v); w != surface.graph.end (v); ++w) {
-      if (surface.ordered.normals[v].dot (surface.ordered.normals[*w]) < 0.0f)
-        ++dropped;
-      else
-        kept.adjacency.push_back (*w);
-    }
-    kept.offsets[v + 1] = static_cast<pcl::index_t> (kept.adjacency.size ());
-  }
-  if (dropped == 0 || connectedComponents (kept, component) != 1)
+  CsrGraph kept = graphWithoutThinPartEdges (surface, component, dropped);
+  if (dropped == 0)
     return;
-  surface.sheet_edges_dropped = dropped / 2;
+  surface.sheet_edges_dropped = dropped;
   surface.graph = std::move (kept);
   surface.ordered = orderNeighbourhoods (points, surface.graph);
   if (!surface.ordered.success)
@@ -82,6 +107,8 @@ buildSurfaceGraphs (const Points3& points,
   result.normals_flipped = orientation.num_flipped;
   if (separate_thin_sheets)
     separateThinSheets (points, component, result);
+  else
+    graphWithoutThinPartEdges (result, component, result.sheet_edges_droppable);
   if (!result.ordered.success) {
     result.message = result.ordered.message;
     return result;

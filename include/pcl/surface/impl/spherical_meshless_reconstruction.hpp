@@ -311,8 +311,9 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // sides and the patches fold there. If the result intersects itself, try again
   // with those edges dropped (see meshless::buildSurfaceGraphs) and keep the result
   // with fewer intersecting pairs; a failed second attempt changes nothing, and a
-  // cloud without such edges makes none.
-  if (sphere && report_.mesh.self_intersecting_pairs > 0 && !turnsBack ()) {
+  // cloud without such edges (counted by the first run) makes none.
+  if (sphere && report_.mesh.self_intersecting_pairs > 0 && report_.stats.thin_part_edges > 0 &&
+      !turnsBack ()) {
     sphere_options.separate_thin_sheets = true;
     meshless::SphereTriangulation second =
         meshless::triangulateSphere (points, nb.neighbours, sphere_options);

@@ -72,6 +72,9 @@ struct SpherePipelineStats
   std::size_t reassigned = 0;
   std::size_t repair_flips = 0;
   std::size_t normals_flipped = 0;
+  /** \brief Edges across parts thinner than the point spacing: dropped (with
+    * separate_thin_sheets), or that a run with it would drop (without). */
+  std::size_t thin_part_edges = 0;
   std::size_t weight_fallbacks = 0;
   double smallest_parameter_edge = 0.0;
 };

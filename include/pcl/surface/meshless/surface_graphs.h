@@ -27,6 +27,10 @@ struct SurfaceGraphs : StageStatus
   std::size_t normals_flipped = 0;
   /** \brief Edges dropped as crossing a thin part (separate_thin_sheets). */
   std::size_t sheet_edges_dropped = 0;
+  /** \brief Without separate_thin_sheets: the edges a run with it would drop (0 if
+    * dropping them would disconnect the graph), so that a caller knows whether
+    * such a run can differ at all. */
+  std::size_t sheet_edges_droppable = 0;
   Weights weights;
 };
 
