@@ -3,6 +3,8 @@
 
 #include <gtest/gtest.h>
 
+#include "test_support.h"
+
 #include <Eigen/Geometry>
 
 #include <algorithm>
@@ -15,16 +17,13 @@
 #include <random>
 
 using namespace pcl::meshless;
+using meshless_test::geodesicSphere;
+using meshless_test::Mesh;
 
 namespace {
 
 constexpr double pi = 3.14159265358979323846;
 
-struct Mesh
-{
-  Points3 vertices;
-  Triangles triangles;
-};
 
 Mesh
 tetrahedron ()
@@ -76,70 +75,6 @@ gridTorus (int nu, int nv)
   return m;
 }
 
-/** Geodesic sphere: every icosahedron face cut into k^2 triangles, vertices pushed to
-  * the unit sphere. 20 k^2 triangles, 10 k^2 + 2 vertices. Star-shaped around the
-  * origin, hence free of self-intersections. */
-Mesh
-geodesicSphere (int k)
-{
-  const double g = (1.0 + std::sqrt (5.0)) / 2.0;
-  Mesh m;
-  m.vertices = {{-1, g, 0}, {1, g, 0}, {-1, -g, 0}, {1, -g, 0},
-                {0, -1, g}, {0, 1, g}, {0, -1, -g}, {0, 1, -g},
-                {g, 0, -1}, {g, 0, 1}, {-g, 0, -1}, {-g, 0, 1}};
-  for (auto& v : m.vertices)
-    v.normalize ();
-  const std::vector<Triangle> faces = {{0, 11, 5},  {0, 5, 1},  {0, 1, 7},  {0, 7, 10},
-                                       {0, 10, 11}, {1, 5, 9},  {5, 11, 4}, {11, 10, 2},
-                                       {10, 7, 6},  {7, 1, 8},  {3, 9, 4},  {3, 4, 2},
-                                       {3, 2, 6},   {3, 6, 8},  {3, 8, 9},  {4, 9, 5},
-                                       {2, 4, 11},  {6, 2, 10}, {8, 6, 7},  {9, 8, 1}};
-  std::map<std::pair<int, int>, int> edge_start; // first id of an edge's inner points
-  const auto edgePoint = [&] (int from, int to, int step) {
-    const auto key = std::minmax (from, to);
-    auto it = edge_start.find (key);
-    if (it == edge_start.end ()) {
-      it = edge_start.emplace (key, static_cast<int> (m.vertices.size ())).first;
-      const Eigen::Vector3d a = m.vertices[key.first], b = m.vertices[key.second];
-      for (int s = 1; s < k; ++s)
-        m.vertices.push_back ((a + (b - a) * s / k).normalized ());
-    }
-    return it->second + (from < to ? step : k - step) - 1;
-  };
-  for (const Triangle& f : faces) {
-    const Eigen::Vector3d a = m.vertices[f[0]], b = m.vertices[f[1]],
-                          c = m.vertices[f[2]];
-    EXPECT_GT (a.dot ((b - a).cross (c - a)), 0.0) << "icosahedron face not outward";
-    std::vector<int> grid ((k + 1) * (k + 1));
-    const auto at = [&grid, k] (int i, int j) -> int& { return grid[i * (k + 1) + j]; };
-    for (int i = 0; i <= k; ++i)
-      for (int j = 0; i + j <= k; ++j) {
-        if (i == 0 && j == 0)
-          at (i, j) = f[0];
-        else if (i == k)
-          at (i, j) = f[1];
-        else if (j == k)
-          at (i, j) = f[2];
-        else if (j == 0)
-          at (i, j) = edgePoint (f[0], f[1], i);
-        else if (i == 0)
-          at (i, j) = edgePoint (f[0], f[2], j);
-        else if (i + j == k)
-          at (i, j) = edgePoint (f[1], f[2], j);
-        else {
-          at (i, j) = static_cast<int> (m.vertices.size ());
-          m.vertices.push_back ((a + (b - a) * i / k + (c - a) * j / k).normalized ());
-        }
-      }
-    for (int i = 0; i < k; ++i)
-      for (int j = 0; i + j < k; ++j) {
-        m.triangles.push_back ({at (i, j), at (i + 1, j), at (i, j + 1)});
-        if (i + j < k - 1)
-          m.triangles.push_back ({at (i + 1, j), at (i + 1, j + 1), at (i, j + 1)});
-      }
-  }
-  return m;
-}
 
 /** Two separate triangles t and u given by their corners. */
 MeshReport

@@ -8,6 +8,7 @@
 #include <pcl/surface/meshless/base_mesh.h>
 #include <pcl/surface/meshless/disc_pipeline.h>
 #include <pcl/surface/meshless/edge_swap.h>
+#include <pcl/surface/meshless/fold_repair.h>
 #include <pcl/surface/meshless/mesh_checks.h>
 #include <pcl/surface/meshless/sphere_pipeline.h>
 #include <pcl/surface/meshless/weights.h>
@@ -43,6 +44,9 @@ struct SphericalMeshlessReport
   bool thin_sheet_retry = false;
   /** \brief The edge-swap optimization (when enabled). */
   meshless::EdgeSwapResult optimization;
+  /** \brief Local folds the check found, re-meshed away where possible
+    * (meshless::repairFoldsByReinsertion; runs when the output intersects itself). */
+  meshless::FoldRepairResult fold_repair;
   /** \brief Sphere topology: share of the mesh's area facing against the cloud's
     * oriented normals (meshless::areaFacingAgainstNormals); above
     * SphericalMeshlessReconstruction::max_area_against_normals, with

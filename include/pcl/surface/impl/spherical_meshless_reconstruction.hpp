@@ -241,6 +241,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // success; an empty string, or what is wrong.
   auto optimizeAndCheck = [&] (meshless::Triangles& mesh_triangles,
                                meshless::EdgeSwapResult& optimization,
+                               meshless::FoldRepairResult& repair,
                                meshless::MeshReport& mesh) -> std::string {
     if (optimize_) {
       const auto optimize_start = std::chrono::steady_clock::now ();
@@ -271,6 +272,24 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     record ({"check", 1.0,
              std::chrono::duration<double> (std::chrono::steady_clock::now () - check_start).count (),
              ""});
+    // Local folds the swaps could not open: re-mesh small discs around them, then
+    // check again (the pair list must be complete for the repair to trust it).
+    repair = {};
+    if (mesh.self_intersecting_pairs > 0 &&
+        mesh.intersecting_pairs.size () == mesh.self_intersecting_pairs && mesh.isManifold () &&
+        mesh.isOriented ()) {
+      const auto repair_start = std::chrono::steady_clock::now ();
+      repair = meshless::repairFoldsByReinsertion (points, mesh_triangles, mesh.intersecting_pairs);
+      if (repair.regions_remeshed > 0)
+        mesh = meshless::checkMesh (points, mesh_triangles, check);
+      if (!record ({"repair", 1.0,
+                    std::chrono::duration<double> (std::chrono::steady_clock::now () - repair_start)
+                        .count (),
+                    std::to_string (repair.pairs_before) + " -> " +
+                        std::to_string (mesh.self_intersecting_pairs) + " intersecting pairs, " +
+                        std::to_string (repair.regions_remeshed) + " discs re-meshed"}))
+        return "cancelled by the progress callback";
+    }
     const bool valid =
         sphere ? mesh.isSphereLike () && mesh_triangles.size () == 2 * n - 4 && mesh.signed_volume > 0.0
                : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
@@ -281,7 +300,8 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
              meshless::describe (mesh);
     return "";
   };
-  const std::string problem = optimizeAndCheck (triangles, report_.optimization, report_.mesh);
+  const std::string problem =
+      optimizeAndCheck (triangles, report_.optimization, report_.fold_repair, report_.mesh);
   if (!problem.empty ())
     return fail (problem);
 
@@ -318,13 +338,15 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     meshless::SphereTriangulation second =
         meshless::triangulateSphere (points, nb.neighbours, sphere_options);
     meshless::EdgeSwapResult optimization;
+    meshless::FoldRepairResult repair;
     meshless::MeshReport mesh;
-    if (second.success && optimizeAndCheck (second.triangles, optimization, mesh).empty () &&
+    if (second.success && optimizeAndCheck (second.triangles, optimization, repair, mesh).empty () &&
         mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs) {
       triangles = std::move (second.triangles);
       normals = std::move (second.normals);
       report_.stats = second.stats;
       report_.optimization = optimization;
+      report_.fold_repair = repair;
       report_.mesh = mesh;
       report_.thin_sheet_retry = true;
     }

@@ -1,0 +1,73 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/types.h>
+
+#include <cstddef>
+#include <utility>
+#include <vector>
+
+/** \file
+  * Local folds removed by re-meshing small discs.
+  *
+  * Where a triangulation folds locally (a vertex whose fan overlaps itself or its
+  * neighbours' triangles, a pleat of two or three triangles: measured, the pairs
+  * left after the edge swaps on the shared genus-0 clouds are at most two edges
+  * apart), no single edge swap may lower the number of intersecting pairs. The
+  * fold is gone once its vertices are taken out and put back: the disc of their
+  * triangles is projected onto the plane of its boundary (Newell's normal), the
+  * boundary polygon, if simple there, is triangulated by ear clipping, the inner
+  * vertices are inserted one by one into the triangles they fall in, and Lawson
+  * flips make the disc Delaunay in that plane. The disc keeps its boundary and
+  * number of triangles, so the mesh keeps its vertices, edges, faces, orientation
+  * and genus; a re-meshing is kept only if it lowers the number of intersecting
+  * pairs (counted exactly, as checkMesh counts them). Discs tried around each
+  * vertex of an intersecting triangle: its star, then with one ring, then two.
+  * Folds across a part thinner than the point spacing, whose disc spans both
+  * sides, have no simple projection and stay.
+  */
+namespace pcl {
+namespace meshless {
+
+/** \brief Options of repairFoldsByReinsertion(). */
+struct FoldRepairOptions
+{
+  /** \brief Rounds over the vertices of intersecting triangles (a round looks
+    * again only where the last one re-meshed). Default 4. */
+  int max_rounds = 4;
+  /** \brief Larger discs are not tried. Default 300 triangles. */
+  std::size_t max_region_triangles = 300;
+};
+
+/** \brief What repairFoldsByReinsertion() did. */
+struct FoldRepairResult : StageStatus
+{
+  /** \brief Intersecting pairs before and after (exact counts). */
+  std::size_t pairs_before = 0, pairs_after = 0;
+  /** \brief Discs re-meshed. */
+  std::size_t regions_remeshed = 0;
+};
+
+/** \brief Re-mesh small discs around the vertices of intersecting triangles
+  * while that lowers the number of intersecting pairs.
+  * \param[in] points the vertices
+  * \param[in,out] triangles a closed, manifold, consistently oriented mesh
+  *   (counter-clockwise seen from outside), or a disc; changed only by
+  *   re-meshings, each in the slots of the triangles it replaces
+  * \param[in] pairs every intersecting pair of the mesh (checkMesh's
+  *   intersecting_pairs, listed in full)
+  * \param[in] options see FoldRepairOptions
+  * \return fails (leaving the triangles untouched) if the mesh is not closed and
+  *   manifold where a re-meshing would act
+  */
+FoldRepairResult
+repairFoldsByReinsertion (const Points3& points,
+                          Triangles& triangles,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                          const FoldRepairOptions& options = {});
+
+} // namespace meshless
+} // namespace pcl

@@ -1,0 +1,479 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/fold_repair.h>
+#include <pcl/surface/meshless/triangle_intersection.h>
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <map>
+#include <set>
+#include <unordered_map>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+using Vec2 = Eigen::Vector2d;
+using Vec3 = Eigen::Vector3d;
+
+double
+cross2 (const Vec2& a, const Vec2& b, const Vec2& c)
+{
+  return (b - a).x () * (c - a).y () - (b - a).y () * (c - a).x ();
+}
+
+/** Whether the open segments pq and rs cross or touch (collinear overlaps count). */
+bool
+segmentsMeet (const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s)
+{
+  const double d1 = cross2 (p, q, r), d2 = cross2 (p, q, s);
+  const double d3 = cross2 (r, s, p), d4 = cross2 (r, s, q);
+  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) &&
+         ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0);
+}
+
+/** Broad phase: a uniform grid of triangle bounding boxes, hashed by cell. Slots
+  * that change are entered again in their new cells; a query tests candidates'
+  * current boxes, so stale entries cost a box test and nothing else. */
+class TriangleGrid
+{
+public:
+  TriangleGrid (const Points3& points, const Triangles& triangles, double cell)
+  : points_ (points), triangles_ (triangles), inverse_cell_ (1.0 / cell)
+  {
+    for (std::size_t t = 0; t < triangles.size (); ++t)
+      insert (static_cast<std::int32_t> (t));
+  }
+
+  void
+  insert (std::int32_t t)
+  {
+    forCells (t, [&] (std::uint64_t key) { cells_[key].push_back (t); });
+  }
+
+  /** Slots whose current box overlaps triangle `tri`'s box (each once). */
+  void
+  candidates (const Triangle& tri, std::vector<std::int32_t>& out) const
+  {
+    out.clear ();
+    Vec3 lo, hi;
+    box (tri, lo, hi);
+    forBox (lo, hi, [&] (std::uint64_t key) {
+      const auto it = cells_.find (key);
+      if (it == cells_.end ())
+        return;
+      for (const std::int32_t t : it->second) {
+        Vec3 tlo, thi;
+        box (triangles_[t], tlo, thi);
+        if ((tlo.array () <= hi.array ()).all () && (lo.array () <= thi.array ()).all ())
+          out.push_back (t);
+      }
+    });
+    std::sort (out.begin (), out.end ());
+    out.erase (std::unique (out.begin (), out.end ()), out.end ());
+  }
+
+private:
+  void
+  box (const Triangle& t, Vec3& lo, Vec3& hi) const
+  {
+    lo = points_[t[0]].cwiseMin (points_[t[1]]).cwiseMin (points_[t[2]]);
+    hi = points_[t[0]].cwiseMax (points_[t[1]]).cwiseMax (points_[t[2]]);
+  }
+
+  template <typename Visit>
+  void
+  forCells (std::int32_t t, Visit visit) const
+  {
+    Vec3 lo, hi;
+    box (triangles_[t], lo, hi);
+    forBox (lo, hi, visit);
+  }
+
+  template <typename Visit>
+  void
+  forBox (const Vec3& lo, const Vec3& hi, Visit visit) const
+  {
+    const Eigen::Array3d a = (lo * inverse_cell_).array ().floor ();
+    const Eigen::Array3d b = (hi * inverse_cell_).array ().floor ();
+    for (double x = a.x (); x <= b.x (); ++x)
+      for (double y = a.y (); y <= b.y (); ++y)
+        for (double z = a.z (); z <= b.z (); ++z) {
+          const auto ix = static_cast<std::uint64_t> (static_cast<std::int64_t> (x) & 0x1fffff);
+          const auto iy = static_cast<std::uint64_t> (static_cast<std::int64_t> (y) & 0x1fffff);
+          const auto iz = static_cast<std::uint64_t> (static_cast<std::int64_t> (z) & 0x1fffff);
+          visit ((ix << 42) | (iy << 21) | iz);
+        }
+  }
+
+  const Points3& points_;
+  const Triangles& triangles_;
+  double inverse_cell_;
+  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> cells_;
+};
+
+class FoldRepair
+{
+public:
+  FoldRepair (const Points3& points, Triangles& triangles, double cell)
+  : points_ (points), triangles_ (triangles), star_ (points.size ()), grid_ (points, triangles, cell)
+  {
+    for (std::size_t t = 0; t < triangles.size (); ++t)
+      for (const pcl::index_t v : triangles[t])
+        star_[v].push_back (static_cast<std::int32_t> (t));
+  }
+
+  /** Re-meshes the disc formed by the triangles through the vertices `inner`
+    * (taken out and put back in the plane of the disc's boundary) if that lowers the
+    * number of intersecting pairs; returns the decrease (0 if left alone). */
+  std::size_t
+  tryRemesh (std::vector<pcl::index_t> inner, std::size_t max_triangles)
+  {
+    std::sort (inner.begin (), inner.end ());
+    inner.erase (std::unique (inner.begin (), inner.end ()), inner.end ());
+    std::vector<std::int32_t> slots;
+    for (const pcl::index_t v : inner)
+      slots.insert (slots.end (), star_[v].begin (), star_[v].end ());
+    std::sort (slots.begin (), slots.end ());
+    slots.erase (std::unique (slots.begin (), slots.end ()), slots.end ());
+    if (slots.size () > max_triangles || slots.size () < 4)
+      return 0;
+    const auto inRegion = [&] (std::int32_t t) {
+      return std::binary_search (slots.begin (), slots.end (), t);
+    };
+    // Interior: every triangle through it in the region (so the inner vertices and
+    // any vertex the region happens to surround).
+    std::vector<pcl::index_t> interior;
+    std::set<pcl::index_t> region_vertices;
+    for (const std::int32_t t : slots)
+      region_vertices.insert (triangles_[t].begin (), triangles_[t].end ());
+    for (const pcl::index_t x : region_vertices)
+      if (std::all_of (star_[x].begin (), star_[x].end (), inRegion))
+        interior.push_back (x);
+    // The boundary: directed edges of the region whose reverse is not in it.
+    std::map<std::pair<pcl::index_t, pcl::index_t>, int> directed;
+    for (const std::int32_t t : slots)
+      for (int k = 0; k < 3; ++k)
+        ++directed[{triangles_[t][k], triangles_[t][(k + 1) % 3]}];
+    std::unordered_map<pcl::index_t, pcl::index_t> next;
+    for (const auto& [edge, uses] : directed)
+      if (!directed.count ({edge.second, edge.first}))
+        if (!next.emplace (edge.first, edge.second).second)
+          return 0; // the boundary touches itself
+    if (next.empty ())
+      return 0;
+    std::vector<pcl::index_t> loop{next.begin ()->first};
+    while (loop.size () <= next.size ()) {
+      const pcl::index_t after = next.at (loop.back ());
+      if (after == loop.front ())
+        break;
+      loop.push_back (after);
+    }
+    const std::size_t m = loop.size ();
+    if (m != next.size () || m < 3 || slots.size () != 2 * interior.size () + m - 2)
+      return 0; // not a disc
+
+    // Plane of the boundary (Newell), projection.
+    Vec3 normal = Vec3::Zero ();
+    for (std::size_t i = 0; i < m; ++i)
+      normal += points_[loop[i]].cross (points_[loop[(i + 1) % m]]);
+    if (!(normal.norm () > 0.0))
+      return 0;
+    normal.normalize ();
+    const Vec3 u = normal.unitOrthogonal (), w = normal.cross (u);
+    std::unordered_map<pcl::index_t, Vec2> at;
+    for (const pcl::index_t x : region_vertices)
+      at[x] = Vec2 (points_[x].dot (u), points_[x].dot (w));
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t j = i + 2; j < m; ++j)
+        if (!(i == 0 && j == m - 1) &&
+            segmentsMeet (at[loop[i]], at[loop[(i + 1) % m]], at[loop[j]], at[loop[(j + 1) % m]]))
+          return 0;
+
+    // Ear clipping of the boundary polygon, best ears first.
+    std::vector<pcl::index_t> remaining = loop;
+    Triangles fresh;
+    while (remaining.size () > 3) {
+      const std::size_t r = remaining.size ();
+      double best_quality = -1.0;
+      std::size_t best = r;
+      for (std::size_t k = 0; k < r; ++k) {
+        const pcl::index_t a = remaining[(k + r - 1) % r], b = remaining[k], c = remaining[(k + 1) % r];
+        const double area = cross2 (at[a], at[b], at[c]);
+        if (!(area > 0.0))
+          continue;
+        bool empty = true;
+        for (const pcl::index_t x : remaining)
+          if (x != a && x != b && x != c && cross2 (at[a], at[b], at[x]) >= 0.0 &&
+              cross2 (at[b], at[c], at[x]) >= 0.0 && cross2 (at[c], at[a], at[x]) >= 0.0) {
+            empty = false;
+            break;
+          }
+        if (!empty)
+          continue;
+        const double longest = std::max ({(at[a] - at[b]).squaredNorm (), (at[b] - at[c]).squaredNorm (),
+                                          (at[c] - at[a]).squaredNorm ()});
+        if (area / longest > best_quality) {
+          best_quality = area / longest;
+          best = k;
+        }
+      }
+      if (best == r)
+        return 0;
+      fresh.push_back ({remaining[(best + r - 1) % r], remaining[best], remaining[(best + 1) % r]});
+      remaining.erase (remaining.begin () + static_cast<std::ptrdiff_t> (best));
+    }
+    if (!(cross2 (at[remaining[0]], at[remaining[1]], at[remaining[2]]) > 0.0))
+      return 0;
+    fresh.push_back ({remaining[0], remaining[1], remaining[2]});
+
+    // Interior vertices put back, each into the triangle it falls in (strictly).
+    for (const pcl::index_t x : interior) {
+      std::size_t host = fresh.size ();
+      for (std::size_t i = 0; i < fresh.size () && host == fresh.size (); ++i) {
+        const Vec2 &a = at[fresh[i][0]], &b = at[fresh[i][1]], &c = at[fresh[i][2]];
+        const double scale = 1e-12 * ((a - b).squaredNorm () + (b - c).squaredNorm ());
+        if (cross2 (a, b, at[x]) > scale && cross2 (b, c, at[x]) > scale && cross2 (c, a, at[x]) > scale)
+          host = i;
+      }
+      if (host == fresh.size ())
+        return 0;
+      const Triangle t = fresh[host];
+      fresh[host] = {t[0], t[1], x};
+      fresh.push_back ({t[1], t[2], x});
+      fresh.push_back ({t[2], t[0], x});
+    }
+    // Lawson flips towards the Delaunay triangulation in the plane (interior edges
+    // of the region only), bounded.
+    for (std::size_t sweep = 0, flips = 1; sweep < 4 * fresh.size () && flips > 0; ++sweep) {
+      flips = 0;
+      for (std::size_t i = 0; i < fresh.size (); ++i)
+        for (int k = 0; k < 3; ++k) {
+          const pcl::index_t a = fresh[i][k], b = fresh[i][(k + 1) % 3], c = fresh[i][(k + 2) % 3];
+          for (std::size_t j = 0; j < fresh.size (); ++j) {
+            if (j == i)
+              continue;
+            int l = 0;
+            while (l < 3 && !(fresh[j][l] == b && fresh[j][(l + 1) % 3] == a))
+              ++l;
+            if (l == 3)
+              continue;
+            const pcl::index_t d = fresh[j][(l + 2) % 3];
+            // Flip ab to cd when d lies inside abc's circumcircle and acd, cbd... stay
+            // counter-clockwise.
+            const Vec2 &pa = at[a], &pb = at[b], &pc = at[c], &pd = at[d];
+            if (!(cross2 (pa, pd, pc) > 0.0 && cross2 (pd, pb, pc) > 0.0))
+              break;
+            const Eigen::Matrix3d incircle =
+                (Eigen::Matrix3d () << pa.x () - pd.x (), pa.y () - pd.y (), (pa - pd).squaredNorm (),
+                 pb.x () - pd.x (), pb.y () - pd.y (), (pb - pd).squaredNorm (),
+                 pc.x () - pd.x (), pc.y () - pd.y (), (pc - pd).squaredNorm ())
+                    .finished ();
+            if (!(incircle.determinant () > 1e-12 * std::pow ((pa - pb).squaredNorm (), 2)))
+              break;
+            bool exists = false; // cd already an edge of the new triangles
+            for (const Triangle& t : fresh)
+              for (int e = 0; e < 3; ++e)
+                exists = exists || (t[e] == c && t[(e + 1) % 3] == d) || (t[e] == d && t[(e + 1) % 3] == c);
+            if (exists)
+              break;
+            fresh[i] = {a, d, c};
+            fresh[j] = {d, b, c};
+            ++flips;
+            break;
+          }
+        }
+    }
+    if (fresh.size () != slots.size ())
+      return 0;
+    // No edge between boundary vertices that the mesh has outside the region.
+    std::set<pcl::index_t> boundary (loop.begin (), loop.end ());
+    for (const Triangle& t : fresh) {
+      if (projectionAxis (points_, t) < 0)
+        return 0;
+      for (int k = 0; k < 3; ++k) {
+        const pcl::index_t a = t[k], b = t[(k + 1) % 3];
+        if (boundary.count (a) && boundary.count (b) && !directed.count ({a, b}) &&
+            !directed.count ({b, a}) && hasEdgeOutside (a, b, inRegion))
+          return 0;
+      }
+    }
+
+    const std::size_t before = pairsOf (slots, nullptr);
+    const std::size_t after = pairsOf (slots, &fresh);
+    if (after >= before)
+      return 0;
+
+    for (const pcl::index_t x : region_vertices) {
+      auto& st = star_[x];
+      st.erase (std::remove_if (st.begin (), st.end (), inRegion), st.end ());
+    }
+    for (std::size_t i = 0; i < slots.size (); ++i) {
+      triangles_[slots[i]] = fresh[i];
+      for (const pcl::index_t x : fresh[i])
+        star_[x].push_back (slots[i]);
+      grid_.insert (slots[i]);
+    }
+    return before - after;
+  }
+
+  /** The neighbours of v. */
+  std::vector<pcl::index_t>
+  neighbours (pcl::index_t v) const
+  {
+    std::vector<pcl::index_t> result;
+    for (const std::int32_t t : star_[v])
+      for (const pcl::index_t x : triangles_[t])
+        if (x != v)
+          result.push_back (x);
+    std::sort (result.begin (), result.end ());
+    result.erase (std::unique (result.begin (), result.end ()), result.end ());
+    return result;
+  }
+
+  /** Slots of the triangles through v. */
+  const std::vector<std::int32_t>&
+  star (pcl::index_t v) const
+  {
+    return star_[v];
+  }
+
+  /** Whether the triangle in slot t intersects some other one. */
+  bool
+  intersectsSomething (std::int32_t t)
+  {
+    grid_.candidates (triangles_[t], scratch_);
+    for (const std::int32_t o : scratch_)
+      if (o != t && trianglesIntersect (points_, triangles_[t], triangles_[o]))
+        return true;
+    return false;
+  }
+
+private:
+  template <typename InRegion>
+  bool
+  hasEdgeOutside (pcl::index_t a, pcl::index_t b, InRegion in_region) const
+  {
+    for (const std::int32_t t : star_[a])
+      if (!in_region (t))
+        for (const pcl::index_t x : triangles_[t])
+          if (x == b)
+            return true;
+    return false;
+  }
+
+  /** Intersecting pairs that involve the star in `slots`: as it is (replacement
+    * null), or with its triangles replaced (same order as the slots). */
+  std::size_t
+  pairsOf (const std::vector<std::int32_t>& slots, const Triangles* replacement)
+  {
+    const auto current = [&] (std::size_t i) -> const Triangle& {
+      return replacement ? (*replacement)[i] : triangles_[slots[i]];
+    };
+    std::size_t count = 0;
+    for (std::size_t i = 0; i < slots.size (); ++i) {
+      // Within the star, each pair once.
+      for (std::size_t j = i + 1; j < slots.size (); ++j)
+        count += trianglesIntersect (points_, current (i), current (j)) ? 1 : 0;
+      // Against the rest of the mesh (the star's slots hold the old triangles in
+      // the grid; they are skipped here).
+      grid_.candidates (current (i), scratch_);
+      for (const std::int32_t o : scratch_)
+        if (std::find (slots.begin (), slots.end (), o) == slots.end ())
+          count += trianglesIntersect (points_, current (i), triangles_[o]) ? 1 : 0;
+    }
+    return count;
+  }
+
+  const Points3& points_;
+  Triangles& triangles_;
+  std::vector<std::vector<std::int32_t>> star_;
+  TriangleGrid grid_;
+  std::vector<std::int32_t> scratch_;
+};
+
+} // namespace
+
+FoldRepairResult
+repairFoldsByReinsertion (const Points3& points,
+                          Triangles& triangles,
+                          const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
+                          const FoldRepairOptions& options)
+{
+  FoldRepairResult result;
+  result.pairs_before = result.pairs_after = pairs.size ();
+  if (pairs.empty ()) {
+    result.success = true;
+    return result;
+  }
+  for (const auto& [s, t] : pairs)
+    if (s >= triangles.size () || t >= triangles.size ()) {
+      result.message = "an intersecting pair names a triangle out of range";
+      return result;
+    }
+  for (const Triangle& t : triangles)
+    for (const pcl::index_t v : t)
+      if (v < 0 || static_cast<std::size_t> (v) >= points.size ()) {
+        result.message = "a triangle names a vertex out of range";
+        return result;
+      }
+  // Grid cells of about two mean edge lengths.
+  double total = 0.0;
+  for (const Triangle& t : triangles)
+    total += (points[t[0]] - points[t[1]]).norm ();
+  const double cell = triangles.empty () ? 1.0 : std::max (2.0 * total / triangles.size (), 1e-300);
+
+  try {
+    FoldRepair repair (points, triangles, cell);
+    std::set<pcl::index_t> candidates;
+    for (const auto& [s, t] : pairs)
+      for (const std::size_t slot : {s, t})
+        for (const pcl::index_t v : triangles[slot])
+          candidates.insert (v);
+    for (int round = 0; round < options.max_rounds && !candidates.empty (); ++round) {
+      std::set<pcl::index_t> again;
+      for (const pcl::index_t v : candidates) {
+        // The vertex alone, then with its ring, then with two rings: folds that
+        // reach past the vertex's own star need the larger discs.
+        std::vector<pcl::index_t> region{v};
+        std::size_t gain = 0;
+        for (int rings = 0; rings <= 2 && gain == 0; ++rings) {
+          if (rings > 0) {
+            const std::vector<pcl::index_t> inner = region;
+            for (const pcl::index_t x : inner) {
+              const auto around = repair.neighbours (x);
+              region.insert (region.end (), around.begin (), around.end ());
+            }
+          }
+          gain = repair.tryRemesh (region, options.max_region_triangles);
+        }
+        if (gain == 0)
+          continue;
+        result.pairs_after -= gain;
+        ++result.regions_remeshed;
+        // Whatever still intersects around v is looked at again next round.
+        for (const std::int32_t t : repair.star (v))
+          if (repair.intersectsSomething (t))
+            for (const pcl::index_t x : triangles[t])
+              again.insert (x);
+      }
+      candidates.swap (again);
+    }
+  }
+  catch (const std::bad_alloc&) {
+    result.message = "out of memory";
+    return result;
+  }
+  result.success = true;
+  return result;
+}
+
+} // namespace meshless
+} // namespace pcl
