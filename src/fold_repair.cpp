@@ -45,30 +45,49 @@ segmentsMeet (const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s)
 class TriangleGrid
 {
 public:
-  TriangleGrid (const Points3& points, const Triangles& triangles, double cell)
+  /** Only the cells within `reach` cells of the seeds are kept: the repair acts near
+    * the folds, and a query leaving those cells is refused (candidates() false). */
+  TriangleGrid (const Points3& points,
+                const Triangles& triangles,
+                double cell,
+                const std::vector<pcl::index_t>& seeds,
+                int reach)
   : points_ (points), triangles_ (triangles), inverse_cell_ (1.0 / cell)
   {
+    for (const pcl::index_t v : seeds) {
+      const Vec3 r = Vec3::Constant (reach * cell);
+      forBox (points[v] - r, points[v] + r, [&] (std::uint64_t key) { cells_[key]; });
+    }
     for (std::size_t t = 0; t < triangles.size (); ++t)
       insert (static_cast<std::int32_t> (t));
   }
 
+  /** Enters slot t in the kept cells its box covers. */
   void
   insert (std::int32_t t)
   {
-    forCells (t, [&] (std::uint64_t key) { cells_[key].push_back (t); });
+    forCells (t, [&] (std::uint64_t key) {
+      const auto it = cells_.find (key);
+      if (it != cells_.end ())
+        it->second.push_back (t);
+    });
   }
 
-  /** Slots whose current box overlaps triangle `tri`'s box (each once). */
-  void
+  /** Slots whose current box overlaps triangle `tri`'s box (each once); false if
+    * the box reaches outside the kept cells. */
+  bool
   candidates (const Triangle& tri, std::vector<std::int32_t>& out) const
   {
     out.clear ();
     Vec3 lo, hi;
     box (tri, lo, hi);
+    bool inside = true;
     forBox (lo, hi, [&] (std::uint64_t key) {
       const auto it = cells_.find (key);
-      if (it == cells_.end ())
+      if (it == cells_.end ()) {
+        inside = false;
         return;
+      }
       for (const std::int32_t t : it->second) {
         Vec3 tlo, thi;
         box (triangles_[t], tlo, thi);
@@ -78,6 +97,7 @@ public:
     });
     std::sort (out.begin (), out.end ());
     out.erase (std::unique (out.begin (), out.end ()), out.end ());
+    return inside;
   }
 
 private:
@@ -122,12 +142,35 @@ private:
 class FoldRepair
 {
 public:
-  FoldRepair (const Points3& points, Triangles& triangles, double cell)
-  : points_ (points), triangles_ (triangles), star_ (points.size ()), grid_ (points, triangles, cell)
+  FoldRepair (const Points3& points,
+              Triangles& triangles,
+              double cell,
+              const std::vector<pcl::index_t>& seeds)
+  : points_ (points), triangles_ (triangles), grid_ (points, triangles, cell, seeds, 8)
   {
+    // Stars as compressed rows; the few that re-meshing changes live in changed_.
+    star_offsets_.assign (points.size () + 1, 0);
+    for (const Triangle& t : triangles)
+      for (const pcl::index_t v : t)
+        ++star_offsets_[v + 1];
+    for (std::size_t v = 0; v < points.size (); ++v)
+      star_offsets_[v + 1] += star_offsets_[v];
+    star_slots_.resize (star_offsets_.back ());
+    std::vector<std::size_t> fill (star_offsets_.begin (), star_offsets_.end () - 1);
     for (std::size_t t = 0; t < triangles.size (); ++t)
       for (const pcl::index_t v : triangles[t])
-        star_[v].push_back (static_cast<std::int32_t> (t));
+        star_slots_[fill[v]++] = static_cast<std::int32_t> (t);
+  }
+
+  /** Slots of the triangles through v. */
+  std::vector<std::int32_t>
+  star (pcl::index_t v) const
+  {
+    const auto it = changed_.find (v);
+    if (it != changed_.end ())
+      return it->second;
+    return {star_slots_.begin () + static_cast<std::ptrdiff_t> (star_offsets_[v]),
+            star_slots_.begin () + static_cast<std::ptrdiff_t> (star_offsets_[v + 1])};
   }
 
   /** Re-meshes the disc formed by the triangles through the vertices `inner`
@@ -140,7 +183,10 @@ public:
     inner.erase (std::unique (inner.begin (), inner.end ()), inner.end ());
     std::vector<std::int32_t> slots;
     for (const pcl::index_t v : inner)
-      slots.insert (slots.end (), star_[v].begin (), star_[v].end ());
+    {
+      const auto around = star (v);
+      slots.insert (slots.end (), around.begin (), around.end ());
+    }
     std::sort (slots.begin (), slots.end ());
     slots.erase (std::unique (slots.begin (), slots.end ()), slots.end ());
     if (slots.size () > max_triangles || slots.size () < 4)
@@ -155,8 +201,11 @@ public:
     for (const std::int32_t t : slots)
       region_vertices.insert (triangles_[t].begin (), triangles_[t].end ());
     for (const pcl::index_t x : region_vertices)
-      if (std::all_of (star_[x].begin (), star_[x].end (), inRegion))
+    {
+      const auto around = star (x);
+      if (std::all_of (around.begin (), around.end (), inRegion))
         interior.push_back (x);
+    }
     // The boundary: directed edges of the region whose reverse is not in it.
     std::map<std::pair<pcl::index_t, pcl::index_t>, int> directed;
     for (const std::int32_t t : slots)
@@ -308,17 +357,18 @@ public:
 
     const std::size_t before = pairsOf (slots, nullptr);
     const std::size_t after = pairsOf (slots, &fresh);
-    if (after >= before)
+    if (before == unknown || after >= before)
       return 0;
 
     for (const pcl::index_t x : region_vertices) {
-      auto& st = star_[x];
-      st.erase (std::remove_if (st.begin (), st.end (), inRegion), st.end ());
+      std::vector<std::int32_t> kept = star (x);
+      kept.erase (std::remove_if (kept.begin (), kept.end (), inRegion), kept.end ());
+      changed_[x] = std::move (kept);
     }
     for (std::size_t i = 0; i < slots.size (); ++i) {
       triangles_[slots[i]] = fresh[i];
       for (const pcl::index_t x : fresh[i])
-        star_[x].push_back (slots[i]);
+        changed_[x].push_back (slots[i]);
       grid_.insert (slots[i]);
     }
     return before - after;
@@ -329,7 +379,7 @@ public:
   neighbours (pcl::index_t v) const
   {
     std::vector<pcl::index_t> result;
-    for (const std::int32_t t : star_[v])
+    for (const std::int32_t t : star (v))
       for (const pcl::index_t x : triangles_[t])
         if (x != v)
           result.push_back (x);
@@ -338,18 +388,12 @@ public:
     return result;
   }
 
-  /** Slots of the triangles through v. */
-  const std::vector<std::int32_t>&
-  star (pcl::index_t v) const
-  {
-    return star_[v];
-  }
-
   /** Whether the triangle in slot t intersects some other one. */
   bool
   intersectsSomething (std::int32_t t)
   {
-    grid_.candidates (triangles_[t], scratch_);
+    if (!grid_.candidates (triangles_[t], scratch_))
+      return true; // out of reach: as if it did
     for (const std::int32_t o : scratch_)
       if (o != t && trianglesIntersect (points_, triangles_[t], triangles_[o]))
         return true;
@@ -361,7 +405,7 @@ private:
   bool
   hasEdgeOutside (pcl::index_t a, pcl::index_t b, InRegion in_region) const
   {
-    for (const std::int32_t t : star_[a])
+    for (const std::int32_t t : star (a))
       if (!in_region (t))
         for (const pcl::index_t x : triangles_[t])
           if (x == b)
@@ -369,8 +413,11 @@ private:
     return false;
   }
 
+  static constexpr std::size_t unknown = std::numeric_limits<std::size_t>::max ();
+
   /** Intersecting pairs that involve the star in `slots`: as it is (replacement
-    * null), or with its triangles replaced (same order as the slots). */
+    * null), or with its triangles replaced (same order as the slots); `unknown` if
+    * a triangle reaches outside the grid's kept cells. */
   std::size_t
   pairsOf (const std::vector<std::int32_t>& slots, const Triangles* replacement)
   {
@@ -384,7 +431,8 @@ private:
         count += trianglesIntersect (points_, current (i), current (j)) ? 1 : 0;
       // Against the rest of the mesh (the star's slots hold the old triangles in
       // the grid; they are skipped here).
-      grid_.candidates (current (i), scratch_);
+      if (!grid_.candidates (current (i), scratch_))
+        return unknown;
       for (const std::int32_t o : scratch_)
         if (std::find (slots.begin (), slots.end (), o) == slots.end ())
           count += trianglesIntersect (points_, current (i), triangles_[o]) ? 1 : 0;
@@ -394,7 +442,9 @@ private:
 
   const Points3& points_;
   Triangles& triangles_;
-  std::vector<std::vector<std::int32_t>> star_;
+  std::vector<std::size_t> star_offsets_;
+  std::vector<std::int32_t> star_slots_;
+  std::unordered_map<pcl::index_t, std::vector<std::int32_t>> changed_;
   TriangleGrid grid_;
   std::vector<std::int32_t> scratch_;
 };
@@ -431,12 +481,15 @@ repairFoldsByReinsertion (const Points3& points,
   const double cell = triangles.empty () ? 1.0 : std::max (2.0 * total / triangles.size (), 1e-300);
 
   try {
-    FoldRepair repair (points, triangles, cell);
     std::set<pcl::index_t> candidates;
     for (const auto& [s, t] : pairs)
       for (const std::size_t slot : {s, t})
         for (const pcl::index_t v : triangles[slot])
           candidates.insert (v);
+    // The grid keeps the cells within 8 cells (16 mean edge lengths) of the folds:
+    // room for discs of two rings and the rounds after.
+    FoldRepair repair (points, triangles, cell,
+                       std::vector<pcl::index_t> (candidates.begin (), candidates.end ()));
     for (int round = 0; round < options.max_rounds && !candidates.empty (); ++round) {
       std::set<pcl::index_t> again;
       for (const pcl::index_t v : candidates) {
