@@ -13,6 +13,8 @@
 #include <limits>
 #include <map>
 #include <set>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 namespace pcl {
@@ -220,7 +222,10 @@ public:
       return 0;
     std::vector<pcl::index_t> loop{next.begin ()->first};
     while (loop.size () <= next.size ()) {
-      const pcl::index_t after = next.at (loop.back ());
+      const auto found = next.find (loop.back ());
+      if (found == next.end ())
+        return 0; // the boundary does not close
+      const pcl::index_t after = found->second;
       if (after == loop.front ())
         break;
       loop.push_back (after);
@@ -522,6 +527,10 @@ repairFoldsByReinsertion (const Points3& points,
   }
   catch (const std::bad_alloc&) {
     result.message = "out of memory";
+    return result;
+  }
+  catch (const std::exception& e) {
+    result.message = std::string ("unexpected error: ") + e.what ();
     return result;
   }
   result.success = true;
