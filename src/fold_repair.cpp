@@ -2,10 +2,13 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include <pcl/surface/meshless/delaunay_2d.h>
 #include <pcl/surface/meshless/fold_repair.h>
+#include <pcl/surface/meshless/parameterization.h>
 #include <pcl/surface/meshless/triangle_intersection.h>
 
 #include <Eigen/Geometry>
+#include <Eigen/LU>
 
 #include <algorithm>
 #include <cmath>
@@ -147,8 +150,13 @@ public:
   FoldRepair (const Points3& points,
               Triangles& triangles,
               double cell,
-              const std::vector<pcl::index_t>& seeds)
-  : points_ (points), triangles_ (triangles), grid_ (points, triangles, cell, seeds, 8)
+              const std::vector<pcl::index_t>& seeds,
+              const FoldRepairOptions& options)
+  : points_ (points)
+  , triangles_ (triangles)
+  , neighbours_ (options.neighbours)
+  , normals_ (options.normals)
+  , grid_ (points, triangles, cell, seeds, 8)
   {
     // Stars as compressed rows; the few that re-meshing changes live in changed_.
     star_offsets_.assign (points.size () + 1, 0);
@@ -234,135 +242,160 @@ public:
     if (m != next.size () || m < 3 || slots.size () != 2 * interior.size () + m - 2)
       return 0; // not a disc
 
-    // Plane of the boundary (Newell), projection.
-    Vec3 normal = Vec3::Zero ();
-    for (std::size_t i = 0; i < m; ++i)
-      normal += points_[loop[i]].cross (points_[loop[(i + 1) % m]]);
-    if (!(normal.norm () > 0.0))
-      return 0;
-    normal.normalize ();
-    const Vec3 u = normal.unitOrthogonal (), w = normal.cross (u);
-    std::unordered_map<pcl::index_t, Vec2> at;
-    for (const pcl::index_t x : region_vertices)
-      at[x] = Vec2 (points_[x].dot (u), points_[x].dot (w));
-    for (std::size_t i = 0; i < m; ++i)
-      for (std::size_t j = i + 2; j < m; ++j)
-        if (!(i == 0 && j == m - 1) &&
-            segmentsMeet (at[loop[i]], at[loop[(i + 1) % m]], at[loop[j]], at[loop[(j + 1) % m]]))
-          return 0;
+    // Two ways to re-mesh the disc: in the plane of its boundary, or, where the
+    // disc does not project simply (it folds over a thin part), in a map of it
+    // built from the points' own neighbourhoods on their side of the surface.
+    const auto planar = [&] () -> Triangles {
+      // Plane of the boundary (Newell), projection.
+      Vec3 normal = Vec3::Zero ();
+      for (std::size_t i = 0; i < m; ++i)
+        normal += points_[loop[i]].cross (points_[loop[(i + 1) % m]]);
+      if (!(normal.norm () > 0.0))
+        return Triangles ();
+      normal.normalize ();
+      const Vec3 u = normal.unitOrthogonal (), w = normal.cross (u);
+      std::unordered_map<pcl::index_t, Vec2> at;
+      for (const pcl::index_t x : region_vertices)
+        at[x] = Vec2 (points_[x].dot (u), points_[x].dot (w));
+      for (std::size_t i = 0; i < m; ++i)
+        for (std::size_t j = i + 2; j < m; ++j)
+          if (!(i == 0 && j == m - 1) &&
+              segmentsMeet (at[loop[i]], at[loop[(i + 1) % m]], at[loop[j]], at[loop[(j + 1) % m]]))
+            return Triangles ();
 
-    // Ear clipping of the boundary polygon, best ears first.
-    std::vector<pcl::index_t> remaining = loop;
-    Triangles fresh;
-    while (remaining.size () > 3) {
-      const std::size_t r = remaining.size ();
-      double best_quality = -1.0;
-      std::size_t best = r;
-      for (std::size_t k = 0; k < r; ++k) {
-        const pcl::index_t a = remaining[(k + r - 1) % r], b = remaining[k], c = remaining[(k + 1) % r];
-        const double area = cross2 (at[a], at[b], at[c]);
-        if (!(area > 0.0))
-          continue;
-        bool empty = true;
-        for (const pcl::index_t x : remaining)
-          if (x != a && x != b && x != c && cross2 (at[a], at[b], at[x]) >= 0.0 &&
-              cross2 (at[b], at[c], at[x]) >= 0.0 && cross2 (at[c], at[a], at[x]) >= 0.0) {
-            empty = false;
-            break;
-          }
-        if (!empty)
-          continue;
-        const double longest = std::max ({(at[a] - at[b]).squaredNorm (), (at[b] - at[c]).squaredNorm (),
-                                          (at[c] - at[a]).squaredNorm ()});
-        if (area / longest > best_quality) {
-          best_quality = area / longest;
-          best = k;
-        }
-      }
-      if (best == r)
-        return 0;
-      fresh.push_back ({remaining[(best + r - 1) % r], remaining[best], remaining[(best + 1) % r]});
-      remaining.erase (remaining.begin () + static_cast<std::ptrdiff_t> (best));
-    }
-    if (!(cross2 (at[remaining[0]], at[remaining[1]], at[remaining[2]]) > 0.0))
-      return 0;
-    fresh.push_back ({remaining[0], remaining[1], remaining[2]});
-
-    // Interior vertices put back, each into the triangle it falls in (strictly).
-    for (const pcl::index_t x : interior) {
-      std::size_t host = fresh.size ();
-      for (std::size_t i = 0; i < fresh.size () && host == fresh.size (); ++i) {
-        const Vec2 &a = at[fresh[i][0]], &b = at[fresh[i][1]], &c = at[fresh[i][2]];
-        const double scale = 1e-12 * ((a - b).squaredNorm () + (b - c).squaredNorm ());
-        if (cross2 (a, b, at[x]) > scale && cross2 (b, c, at[x]) > scale && cross2 (c, a, at[x]) > scale)
-          host = i;
-      }
-      if (host == fresh.size ())
-        return 0;
-      const Triangle t = fresh[host];
-      fresh[host] = {t[0], t[1], x};
-      fresh.push_back ({t[1], t[2], x});
-      fresh.push_back ({t[2], t[0], x});
-    }
-    // Lawson flips towards the Delaunay triangulation in the plane (interior edges
-    // of the region only), bounded.
-    for (std::size_t sweep = 0, flips = 1; sweep < 4 * fresh.size () && flips > 0; ++sweep) {
-      flips = 0;
-      for (std::size_t i = 0; i < fresh.size (); ++i)
-        for (int k = 0; k < 3; ++k) {
-          const pcl::index_t a = fresh[i][k], b = fresh[i][(k + 1) % 3], c = fresh[i][(k + 2) % 3];
-          for (std::size_t j = 0; j < fresh.size (); ++j) {
-            if (j == i)
-              continue;
-            int l = 0;
-            while (l < 3 && !(fresh[j][l] == b && fresh[j][(l + 1) % 3] == a))
-              ++l;
-            if (l == 3)
-              continue;
-            const pcl::index_t d = fresh[j][(l + 2) % 3];
-            // Flip ab to cd when d lies inside abc's circumcircle and acd, cbd... stay
-            // counter-clockwise.
-            const Vec2 &pa = at[a], &pb = at[b], &pc = at[c], &pd = at[d];
-            if (!(cross2 (pa, pd, pc) > 0.0 && cross2 (pd, pb, pc) > 0.0))
+      // Ear clipping of the boundary polygon, best ears first.
+      std::vector<pcl::index_t> remaining = loop;
+      Triangles fresh;
+      while (remaining.size () > 3) {
+        const std::size_t r = remaining.size ();
+        double best_quality = -1.0;
+        std::size_t best = r;
+        for (std::size_t k = 0; k < r; ++k) {
+          const pcl::index_t a = remaining[(k + r - 1) % r], b = remaining[k], c = remaining[(k + 1) % r];
+          const double area = cross2 (at[a], at[b], at[c]);
+          if (!(area > 0.0))
+            continue;
+          bool empty = true;
+          for (const pcl::index_t x : remaining)
+            if (x != a && x != b && x != c && cross2 (at[a], at[b], at[x]) >= 0.0 &&
+                cross2 (at[b], at[c], at[x]) >= 0.0 && cross2 (at[c], at[a], at[x]) >= 0.0) {
+              empty = false;
               break;
-            const Eigen::Matrix3d incircle =
-                (Eigen::Matrix3d () << pa.x () - pd.x (), pa.y () - pd.y (), (pa - pd).squaredNorm (),
-                 pb.x () - pd.x (), pb.y () - pd.y (), (pb - pd).squaredNorm (),
-                 pc.x () - pd.x (), pc.y () - pd.y (), (pc - pd).squaredNorm ())
-                    .finished ();
-            if (!(incircle.determinant () > 1e-12 * std::pow ((pa - pb).squaredNorm (), 2)))
-              break;
-            bool exists = false; // cd already an edge of the new triangles
-            for (const Triangle& t : fresh)
-              for (int e = 0; e < 3; ++e)
-                exists = exists || (t[e] == c && t[(e + 1) % 3] == d) || (t[e] == d && t[(e + 1) % 3] == c);
-            if (exists)
-              break;
-            fresh[i] = {a, d, c};
-            fresh[j] = {d, b, c};
-            ++flips;
-            break;
+            }
+          if (!empty)
+            continue;
+          const double longest = std::max ({(at[a] - at[b]).squaredNorm (), (at[b] - at[c]).squaredNorm (),
+                                            (at[c] - at[a]).squaredNorm ()});
+          if (area / longest > best_quality) {
+            best_quality = area / longest;
+            best = k;
           }
         }
-    }
-    if (fresh.size () != slots.size ())
-      return 0;
-    // No edge between boundary vertices that the mesh has outside the region.
+        if (best == r)
+          return Triangles ();
+        fresh.push_back ({remaining[(best + r - 1) % r], remaining[best], remaining[(best + 1) % r]});
+        remaining.erase (remaining.begin () + static_cast<std::ptrdiff_t> (best));
+      }
+      if (!(cross2 (at[remaining[0]], at[remaining[1]], at[remaining[2]]) > 0.0))
+        return Triangles ();
+      fresh.push_back ({remaining[0], remaining[1], remaining[2]});
+
+      // Interior vertices put back, each into the triangle it falls in (strictly).
+      for (const pcl::index_t x : interior) {
+        std::size_t host = fresh.size ();
+        for (std::size_t i = 0; i < fresh.size () && host == fresh.size (); ++i) {
+          const Vec2 &a = at[fresh[i][0]], &b = at[fresh[i][1]], &c = at[fresh[i][2]];
+          const double scale = 1e-12 * ((a - b).squaredNorm () + (b - c).squaredNorm ());
+          if (cross2 (a, b, at[x]) > scale && cross2 (b, c, at[x]) > scale && cross2 (c, a, at[x]) > scale)
+            host = i;
+        }
+        if (host == fresh.size ())
+          return Triangles ();
+        const Triangle t = fresh[host];
+        fresh[host] = {t[0], t[1], x};
+        fresh.push_back ({t[1], t[2], x});
+        fresh.push_back ({t[2], t[0], x});
+      }
+      // Lawson flips towards the Delaunay triangulation in the plane (interior edges
+      // of the region only), bounded.
+      for (std::size_t sweep = 0, flips = 1; sweep < 4 * fresh.size () && flips > 0; ++sweep) {
+        flips = 0;
+        for (std::size_t i = 0; i < fresh.size (); ++i)
+          for (int k = 0; k < 3; ++k) {
+            const pcl::index_t a = fresh[i][k], b = fresh[i][(k + 1) % 3], c = fresh[i][(k + 2) % 3];
+            for (std::size_t j = 0; j < fresh.size (); ++j) {
+              if (j == i)
+                continue;
+              int l = 0;
+              while (l < 3 && !(fresh[j][l] == b && fresh[j][(l + 1) % 3] == a))
+                ++l;
+              if (l == 3)
+                continue;
+              const pcl::index_t d = fresh[j][(l + 2) % 3];
+              // Flip ab to cd when d lies inside abc's circumcircle and acd, cbd... stay
+              // counter-clockwise.
+              const Vec2 &pa = at[a], &pb = at[b], &pc = at[c], &pd = at[d];
+              if (!(cross2 (pa, pd, pc) > 0.0 && cross2 (pd, pb, pc) > 0.0))
+                break;
+              const Eigen::Matrix3d incircle =
+                  (Eigen::Matrix3d () << pa.x () - pd.x (), pa.y () - pd.y (), (pa - pd).squaredNorm (),
+                   pb.x () - pd.x (), pb.y () - pd.y (), (pb - pd).squaredNorm (),
+                   pc.x () - pd.x (), pc.y () - pd.y (), (pc - pd).squaredNorm ())
+                      .finished ();
+              if (!(incircle.determinant () > 1e-12 * std::pow ((pa - pb).squaredNorm (), 2)))
+                break;
+              bool exists = false; // cd already an edge of the new triangles
+              for (const Triangle& t : fresh)
+                for (int e = 0; e < 3; ++e)
+                  exists = exists || (t[e] == c && t[(e + 1) % 3] == d) || (t[e] == d && t[(e + 1) % 3] == c);
+              if (exists)
+                break;
+              fresh[i] = {a, d, c};
+              fresh[j] = {d, b, c};
+              ++flips;
+              break;
+            }
+          }
+      }
+      return fresh;
+    };
+    const auto mapped = [&] () -> Triangles { return mappedDisc (loop, interior, slots.size ()); };
+
+    // Admissible: as many triangles, none degenerate, no edge between boundary
+    // vertices that the mesh has outside the region.
     std::set<pcl::index_t> boundary (loop.begin (), loop.end ());
-    for (const Triangle& t : fresh) {
-      if (projectionAxis (points_, t) < 0)
-        return 0;
-      for (int k = 0; k < 3; ++k) {
-        const pcl::index_t a = t[k], b = t[(k + 1) % 3];
-        if (boundary.count (a) && boundary.count (b) && !directed.count ({a, b}) &&
-            !directed.count ({b, a}) && hasEdgeOutside (a, b, inRegion))
-          return 0;
+    const auto admissible = [&] (const Triangles& fresh) {
+      if (fresh.size () != slots.size ())
+        return false;
+      for (const Triangle& t : fresh) {
+        if (projectionAxis (points_, t) < 0)
+          return false;
+        for (int k = 0; k < 3; ++k) {
+          const pcl::index_t a = t[k], b = t[(k + 1) % 3];
+          if (boundary.count (a) && boundary.count (b) && !directed.count ({a, b}) &&
+              !directed.count ({b, a}) && hasEdgeOutside (a, b, inRegion))
+            return false;
+        }
       }
-    }
+      return true;
+    };
 
     const std::size_t before = pairsOf (slots, nullptr);
-    const std::size_t after = pairsOf (slots, &fresh);
-    if (before == unknown || after >= before)
+    if (before == unknown || before == 0)
+      return 0;
+    Triangles fresh;
+    std::size_t after = before;
+    for (int way = 0; way < 2 && after > 0; ++way) {
+      Triangles candidate = way == 0 ? planar () : mapped ();
+      if (candidate.empty () || !admissible (candidate))
+        continue;
+      const std::size_t pairs = pairsOf (slots, &candidate);
+      if (pairs < after) {
+        after = pairs;
+        fresh = std::move (candidate);
+      }
+    }
+    if (fresh.empty ())
       return 0;
 
     for (const pcl::index_t x : region_vertices) {
@@ -377,6 +410,73 @@ public:
       grid_.insert (slots[i]);
     }
     return before - after;
+  }
+
+  /** The disc re-meshed in a map: its loop on the unit circle (chord length), each
+    * inner vertex at the weighted mean (inverse distance) of its cloud neighbours in
+    * the disc whose oriented normals agree with its own, the points triangulated
+    * (exact Delaunay). Empty if there is no such context, a vertex has no such
+    * neighbour, the map is singular or its hull is not the loop. */
+  Triangles
+  mappedDisc (const std::vector<pcl::index_t>& loop,
+              const std::vector<pcl::index_t>& interior,
+              std::size_t triangles) const
+  {
+    if (!neighbours_ || !normals_ || interior.empty () ||
+        neighbours_->size () != points_.size () || normals_->size () != points_.size ())
+      return {};
+    const std::size_t m = loop.size (), ni = interior.size ();
+    std::unordered_map<pcl::index_t, std::size_t> local;
+    for (std::size_t i = 0; i < m; ++i)
+      local[loop[i]] = i;
+    for (std::size_t i = 0; i < ni; ++i)
+      local[interior[i]] = m + i;
+    const Points2 circle = circleBoundary (points_, loop);
+    Eigen::MatrixXd system = Eigen::MatrixXd::Identity (ni, ni);
+    Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero (ni, 2);
+    for (std::size_t i = 0; i < ni; ++i) {
+      const pcl::index_t x = interior[i];
+      std::vector<std::pair<std::size_t, double>> support;
+      double total = 0.0;
+      for (const pcl::index_t* y = neighbours_->begin (x); y != neighbours_->end (x); ++y) {
+        const auto it = local.find (*y);
+        if (*y == x || it == local.end () || (*normals_)[x].dot ((*normals_)[*y]) <= 0.0f)
+          continue;
+        const double w = 1.0 / std::max ((points_[*y] - points_[x]).norm (), 1e-300);
+        support.emplace_back (it->second, w);
+        total += w;
+      }
+      if (support.empty ())
+        return {};
+      for (const auto& [j, w] : support) {
+        if (j < m)
+          rhs.row (i) += (w / total) * circle[j].transpose ();
+        else
+          system (i, j - m) -= w / total;
+      }
+    }
+    const Eigen::MatrixX2d solution = system.partialPivLu ().solve (rhs);
+    if (!solution.allFinite () || (system * solution - rhs).norm () > 1e-9 * std::max (1.0, rhs.norm ()))
+      return {};
+    Points2 uv (m + ni);
+    for (std::size_t i = 0; i < m; ++i)
+      uv[i] = circle[i];
+    for (std::size_t i = 0; i < ni; ++i)
+      uv[m + i] = solution.row (i).transpose ();
+    const Delaunay2DResult delaunay = delaunay2D (uv);
+    if (!delaunay.success || delaunay.num_duplicates > 0 || delaunay.hull.size () != m ||
+        delaunay.triangles.size () != triangles)
+      return {};
+    const auto start = static_cast<std::size_t> (delaunay.hull[0]);
+    for (std::size_t k = 0; k < m; ++k)
+      if (static_cast<std::size_t> (delaunay.hull[k]) != (start + k) % m)
+        return {};
+    std::vector<pcl::index_t> global (loop);
+    global.insert (global.end (), interior.begin (), interior.end ());
+    Triangles result;
+    for (const Triangle& t : delaunay.triangles)
+      result.push_back ({global[t[0]], global[t[1]], global[t[2]]});
+    return result;
   }
 
   /** The neighbours of v. */
@@ -447,6 +547,8 @@ private:
 
   const Points3& points_;
   Triangles& triangles_;
+  const CsrGraph* neighbours_ = nullptr;
+  const std::vector<Eigen::Vector3f>* normals_ = nullptr;
   std::vector<std::size_t> star_offsets_;
   std::vector<std::int32_t> star_slots_;
   std::unordered_map<pcl::index_t, std::vector<std::int32_t>> changed_;
@@ -494,7 +596,7 @@ repairFoldsByReinsertion (const Points3& points,
     // The grid keeps the cells within 8 cells (16 mean edge lengths) of the folds:
     // room for discs of two rings and the rounds after.
     FoldRepair repair (points, triangles, cell,
-                       std::vector<pcl::index_t> (candidates.begin (), candidates.end ()));
+                       std::vector<pcl::index_t> (candidates.begin (), candidates.end ()), options);
     for (int round = 0; round < options.max_rounds && !candidates.empty (); ++round) {
       std::set<pcl::index_t> again;
       for (const pcl::index_t v : candidates) {

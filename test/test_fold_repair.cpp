@@ -136,3 +136,38 @@ TEST (FoldRepair, ManyFoldsAtOnceOnALargerSphere)
   EXPECT_EQ (result.pairs_after, 0u);
   expectSameSphere (folded, repaired, after);
 }
+
+TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)
+{
+  // On a coarse sphere the discs around a fold are too curved to project simply
+  // onto any plane; with the cloud's neighbourhoods and normals the repair maps
+  // them instead and opens the fold.
+  const Mesh sphere = geodesicSphere (3);
+  Mesh folded = sphere;
+  const pcl::index_t v = 12, w = someNeighbour (sphere, v);
+  folded.vertices[v] = (sphere.vertices[w] + (sphere.vertices[w] - sphere.vertices[v])).normalized ();
+  const MeshReport fold = checkAll (folded);
+  ASSERT_GT (fold.self_intersecting_pairs, 0u);
+
+  Mesh planar_only = folded;
+  const FoldRepairResult planar = repairFoldsByReinsertion (
+      planar_only.vertices, planar_only.triangles, fold.intersecting_pairs);
+  ASSERT_TRUE (planar.success) << planar.message;
+  EXPECT_GT (checkAll (planar_only).self_intersecting_pairs, 0u);
+
+  const CsrGraph neighbours = meshless_test::bruteForceKnn (folded.vertices, 8);
+  std::vector<Eigen::Vector3f> normals;
+  for (const auto& p : folded.vertices)
+    normals.push_back (p.normalized ().cast<float> ()); // outward on the unit sphere
+  FoldRepairOptions options;
+  options.neighbours = &neighbours;
+  options.normals = &normals;
+  Mesh mapped = folded;
+  const FoldRepairResult result =
+      repairFoldsByReinsertion (mapped.vertices, mapped.triangles, fold.intersecting_pairs, options);
+  ASSERT_TRUE (result.success) << result.message;
+  const MeshReport after = checkAll (mapped);
+  EXPECT_EQ (after.self_intersecting_pairs, 0u);
+  EXPECT_EQ (result.pairs_after, 0u);
+  expectSameSphere (folded, mapped, after);
+}

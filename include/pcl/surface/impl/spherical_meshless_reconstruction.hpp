@@ -240,6 +240,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // Optimization and the class's own check of its result before it reports
   // success; an empty string, or what is wrong.
   auto optimizeAndCheck = [&] (meshless::Triangles& mesh_triangles,
+                               const std::vector<Eigen::Vector3f>& mesh_normals,
                                meshless::EdgeSwapResult& optimization,
                                meshless::FoldRepairResult& repair,
                                meshless::MeshReport& mesh) -> std::string {
@@ -279,7 +280,13 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
         mesh.intersecting_pairs.size () == mesh.self_intersecting_pairs && mesh.isManifold () &&
         mesh.isOriented ()) {
       const auto repair_start = std::chrono::steady_clock::now ();
-      repair = meshless::repairFoldsByReinsertion (points, mesh_triangles, mesh.intersecting_pairs);
+      meshless::FoldRepairOptions repair_options;
+      if (mesh_normals.size () == points.size ()) {
+        repair_options.neighbours = &nb.neighbours;
+        repair_options.normals = &mesh_normals;
+      }
+      repair = meshless::repairFoldsByReinsertion (points, mesh_triangles, mesh.intersecting_pairs,
+                                                   repair_options);
       if (repair.regions_remeshed > 0)
         mesh = meshless::checkMesh (points, mesh_triangles, check);
       if (!record ({"repair", 1.0,
@@ -301,7 +308,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     return "";
   };
   const std::string problem =
-      optimizeAndCheck (triangles, report_.optimization, report_.fold_repair, report_.mesh);
+      optimizeAndCheck (triangles, normals, report_.optimization, report_.fold_repair, report_.mesh);
   if (!problem.empty ())
     return fail (problem);
 
@@ -340,7 +347,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     meshless::EdgeSwapResult optimization;
     meshless::FoldRepairResult repair;
     meshless::MeshReport mesh;
-    if (second.success && optimizeAndCheck (second.triangles, optimization, repair, mesh).empty () &&
+    if (second.success && optimizeAndCheck (second.triangles, second.normals, optimization, repair, mesh).empty () &&
         mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs) {
       triangles = std::move (second.triangles);
       normals = std::move (second.normals);

@@ -26,8 +26,11 @@
   * and genus; a re-meshing is kept only if it lowers the number of intersecting
   * pairs (counted exactly, as checkMesh counts them). Discs tried around each
   * vertex of an intersecting triangle: its star, then with one ring, then two.
-  * Folds across a part thinner than the point spacing, whose disc spans both
-  * sides, have no simple projection and stay.
+  * A disc with no simple projection (too curved, or folded over a part thinner
+  * than the point spacing) is re-meshed in a map instead when the cloud's
+  * neighbourhoods and oriented normals are given: its loop on a circle, each inner
+  * vertex at the mean of its neighbours on its own side. Folds whose discs mix
+  * the two sides of a thin part along their boundary stay.
   */
 namespace pcl {
 namespace meshless {
@@ -40,6 +43,12 @@ struct FoldRepairOptions
   int max_rounds = 4;
   /** \brief Larger discs are not tried. Default 300 triangles. */
   std::size_t max_region_triangles = 300;
+  /** \brief Optional: the cloud's neighbourhoods (e.g. the kNN graph) and oriented
+    * normals, one per vertex. With both, a disc that has no simple projection (a
+    * fold over a part thinner than the point spacing) is re-meshed in a map built
+    * from each inner vertex's neighbours on its own side (normals agreeing). */
+  const CsrGraph* neighbours = nullptr;
+  const std::vector<Eigen::Vector3f>* normals = nullptr;
 };
 
 /** \brief What repairFoldsByReinsertion() did. */
