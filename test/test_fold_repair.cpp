@@ -142,10 +142,11 @@ TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)
   // On a coarse sphere the discs around a fold are too curved to project simply
   // onto any plane; with the cloud's neighbourhoods and normals the repair maps
   // them instead and opens the fold.
-  const Mesh sphere = geodesicSphere (3);
+  const Mesh sphere = geodesicSphere (2);
   Mesh folded = sphere;
-  const pcl::index_t v = 12, w = someNeighbour (sphere, v);
-  folded.vertices[v] = (sphere.vertices[w] + (sphere.vertices[w] - sphere.vertices[v])).normalized ();
+  const pcl::index_t v = 30, w = someNeighbour (sphere, v);
+  folded.vertices[v] =
+      (sphere.vertices[w] + 0.3 * (sphere.vertices[w] - sphere.vertices[v])).normalized ();
   const MeshReport fold = checkAll (folded);
   ASSERT_GT (fold.self_intersecting_pairs, 0u);
 
