@@ -261,15 +261,6 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     check.check_self_intersections = check_self_intersections_;
     check.max_listed_intersections = 65536; // for distantIntersectingPairs
     mesh = meshless::checkMesh (points, mesh_triangles, check);
-    // Outward. A closed, consistently oriented mesh with a negative volume is inside
-    // out as a whole: the orientation vote of the normals can be carried by one far
-    // outlier (an unreliable normal with a large weight). Reversing every triangle
-    // turns it; of the check's figures only the volume changes, to its negative.
-    if (sphere && mesh.isSphereLike () && mesh.signed_volume < 0.0) {
-      for (auto& t : mesh_triangles)
-        std::swap (t[1], t[2]);
-      mesh.signed_volume = -mesh.signed_volume;
-    }
     record ({"check", 1.0,
              std::chrono::duration<double> (std::chrono::steady_clock::now () - check_start).count (),
              ""});
@@ -296,6 +287,17 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                         std::to_string (mesh.self_intersecting_pairs) + " intersecting pairs, " +
                         std::to_string (repair.regions_remeshed) + " discs re-meshed"}))
         return "cancelled by the progress callback";
+    }
+    // Outward, judged after the repair (re-meshing the fan of a far outlier moves
+    // much of the volume: a fuzzer finding). A closed, consistently oriented mesh
+    // with a negative volume is inside out as a whole: the orientation vote of the
+    // normals can be carried by one far outlier (an unreliable normal with a large
+    // weight). Reversing every triangle
+    // turns it; of the check's figures only the volume changes, to its negative.
+    if (sphere && mesh.isSphereLike () && mesh.signed_volume < 0.0) {
+      for (auto& t : mesh_triangles)
+        std::swap (t[1], t[2]);
+      mesh.signed_volume = -mesh.signed_volume;
     }
     const bool valid =
         sphere ? mesh.isSphereLike () && mesh_triangles.size () == 2 * n - 4 && mesh.signed_volume > 0.0
