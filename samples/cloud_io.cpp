@@ -5,6 +5,7 @@
 #include <pcl/io/ply_io.h>
 #include <pcl/io/vtk_io.h>
 
+#include <cstdio>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -121,9 +122,7 @@ loadMesh (const std::string& path, pcl::meshless::Points3& vertices,
   const std::string error = pointsFromBlob (mesh.cloud, path, cloud);
   if (!error.empty ())
     return error;
-  vertices.clear ();
-  for (const auto& p : cloud)
-    vertices.emplace_back (p.x, p.y, p.z);
+  vertices = toPoints (cloud);
   triangles.clear ();
   for (const auto& polygon : mesh.polygons)
     for (std::size_t k = 2; k < polygon.vertices.size (); ++k)
@@ -148,6 +147,37 @@ saveMesh (const std::string& path, const pcl::PolygonMesh& mesh)
   else
     return "unknown output format (expected .ply, .vtk or .obj): " + path;
   return status == 0 ? "" : "cannot write " + path;
+}
+
+pcl::meshless::Points3
+toPoints (const pcl::PointCloud<pcl::PointXYZ>& cloud)
+{
+  pcl::meshless::Points3 points;
+  points.reserve (cloud.size ());
+  for (const auto& p : cloud)
+    points.emplace_back (p.x, p.y, p.z);
+  return points;
+}
+
+pcl::meshless::Triangles
+toTriangles (const pcl::PolygonMesh& mesh)
+{
+  pcl::meshless::Triangles triangles;
+  triangles.reserve (mesh.polygons.size ());
+  for (const auto& polygon : mesh.polygons)
+    if (polygon.vertices.size () == 3)
+      triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
+                            static_cast<pcl::index_t> (polygon.vertices[1]),
+                            static_cast<pcl::index_t> (polygon.vertices[2])});
+  return triangles;
+}
+
+std::string
+format (const char* pattern, double value)
+{
+  char buffer[64];
+  std::snprintf (buffer, sizeof (buffer), pattern, value);
+  return buffer;
 }
 
 } // namespace meshless_tools

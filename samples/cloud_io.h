@@ -1,4 +1,5 @@
-// Reading clouds and meshes, writing meshes: shared by the command-line tools.
+// Reading clouds and meshes, writing meshes, converting them to the pipeline's
+// types: shared by the command-line tools.
 #pragma once
 
 #include <pcl/PolygonMesh.h>
@@ -29,5 +30,17 @@ loadMesh (const std::string& path,
   * \return an empty string, or the reason it failed */
 std::string
 saveMesh (const std::string& path, const pcl::PolygonMesh& mesh);
+
+/** The cloud's points as the pipeline's doubles. */
+pcl::meshless::Points3
+toPoints (const pcl::PointCloud<pcl::PointXYZ>& cloud);
+
+/** The mesh's triangles (polygons with other than three corners are skipped). */
+pcl::meshless::Triangles
+toTriangles (const pcl::PolygonMesh& mesh);
+
+/** printf of one number into a string (table cells). */
+std::string
+format (const char* pattern, double value);
 
 } // namespace meshless_tools

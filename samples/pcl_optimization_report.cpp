@@ -44,6 +44,9 @@
 
 namespace {
 
+using meshless_tools::format;
+using meshless_tools::toTriangles;
+
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Clock = std::chrono::steady_clock;
 namespace meshless = pcl::meshless;
@@ -113,19 +116,6 @@ median (std::vector<double> values)
   std::sort (values.begin (), values.end ());
   const std::size_t m = values.size () / 2;
   return values.size () % 2 ? values[m] : 0.5 * (values[m - 1] + values[m]);
-}
-
-meshless::Triangles
-toTriangles (const pcl::PolygonMesh& mesh)
-{
-  meshless::Triangles triangles;
-  triangles.reserve (mesh.polygons.size ());
-  for (const auto& polygon : mesh.polygons)
-    if (polygon.vertices.size () == 3)
-      triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
-                            static_cast<pcl::index_t> (polygon.vertices[1]),
-                            static_cast<pcl::index_t> (polygon.vertices[2])});
-  return triangles;
 }
 
 /** What one mesh measures. */
@@ -223,14 +213,6 @@ reconstruct (const Cloud::ConstPtr& cloud, bool optimize,
   if (report)
     *report = reconstruction.getReport ();
   return seconds;
-}
-
-std::string
-format (const char* pattern, double value)
-{
-  char buffer[64];
-  std::snprintf (buffer, sizeof (buffer), pattern, value);
-  return buffer;
 }
 
 std::string
@@ -529,9 +511,8 @@ run (int argc, char** argv)
     row.points = cloud->size ();
     // Original coordinates for the metrics (exact matches with the reference); the
     // optimizer gets them centred, as the class gives them to it.
-    meshless::Points3 vertices, centred;
-    for (const auto& p : *cloud)
-      vertices.emplace_back (p.x, p.y, p.z);
+    const meshless::Points3 vertices = meshless_tools::toPoints (*cloud);
+    meshless::Points3 centred;
     Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
     for (const auto& v : vertices)
       centroid += v;

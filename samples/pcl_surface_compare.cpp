@@ -29,6 +29,10 @@
 
 namespace {
 
+using meshless_tools::format;
+using meshless_tools::toPoints;
+using meshless_tools::toTriangles;
+
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Clock = std::chrono::steady_clock;
 
@@ -111,37 +115,6 @@ struct MethodResult
   pcl::meshless::MeshReport report;
   std::optional<pcl::meshless::MeshDistanceReport> distance;
 };
-
-pcl::meshless::Points3
-toPoints (const Cloud& cloud)
-{
-  pcl::meshless::Points3 points;
-  points.reserve (cloud.size ());
-  for (const auto& p : cloud)
-    points.emplace_back (p.x, p.y, p.z);
-  return points;
-}
-
-pcl::meshless::Triangles
-toTriangles (const pcl::PolygonMesh& mesh)
-{
-  pcl::meshless::Triangles triangles;
-  triangles.reserve (mesh.polygons.size ());
-  for (const auto& polygon : mesh.polygons)
-    if (polygon.vertices.size () == 3)
-      triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
-                            static_cast<pcl::index_t> (polygon.vertices[1]),
-                            static_cast<pcl::index_t> (polygon.vertices[2])});
-  return triangles;
-}
-
-std::string
-format (const char* pattern, double value)
-{
-  char buffer[64];
-  std::snprintf (buffer, sizeof (buffer), pattern, value);
-  return buffer;
-}
 
 void
 printTable (const std::vector<MethodResult>& results, bool with_reference)

@@ -34,14 +34,12 @@ cross2 (const Vec2& a, const Vec2& b, const Vec2& c)
   return (b - a).x () * (c - a).y () - (b - a).y () * (c - a).x ();
 }
 
-/** Whether the open segments pq and rs cross or touch (collinear overlaps count). */
+/** Whether the segments pq and rs cross or touch (collinear ones count as meeting);
+  * exact (orient2d). */
 bool
 segmentsMeet (const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s)
 {
-  const double d1 = cross2 (p, q, r), d2 = cross2 (p, q, s);
-  const double d3 = cross2 (r, s, p), d4 = cross2 (r, s, q);
-  return ((d1 > 0) != (d2 > 0) || d1 == 0 || d2 == 0) &&
-         ((d3 > 0) != (d4 > 0) || d3 == 0 || d4 == 0);
+  return orient2d (p, q, r) * orient2d (p, q, s) <= 0 && orient2d (r, s, p) * orient2d (r, s, q) <= 0;
 }
 
 /** Broad phase: a uniform grid of triangle bounding boxes, hashed by cell. Slots
@@ -245,121 +243,6 @@ public:
     // Two ways to re-mesh the disc: in the plane of its boundary, or, where the
     // disc does not project simply (it folds over a thin part), in a map of it
     // built from the points' own neighbourhoods on their side of the surface.
-    const auto planar = [&] () -> Triangles {
-      // Plane of the boundary (Newell), projection.
-      Vec3 normal = Vec3::Zero ();
-      for (std::size_t i = 0; i < m; ++i)
-        normal += points_[loop[i]].cross (points_[loop[(i + 1) % m]]);
-      if (!(normal.norm () > 0.0))
-        return Triangles ();
-      normal.normalize ();
-      const Vec3 u = normal.unitOrthogonal (), w = normal.cross (u);
-      std::unordered_map<pcl::index_t, Vec2> at;
-      for (const pcl::index_t x : region_vertices)
-        at[x] = Vec2 (points_[x].dot (u), points_[x].dot (w));
-      for (std::size_t i = 0; i < m; ++i)
-        for (std::size_t j = i + 2; j < m; ++j)
-          if (!(i == 0 && j == m - 1) &&
-              segmentsMeet (at[loop[i]], at[loop[(i + 1) % m]], at[loop[j]], at[loop[(j + 1) % m]]))
-            return Triangles ();
-
-      // Ear clipping of the boundary polygon, best ears first.
-      std::vector<pcl::index_t> remaining = loop;
-      Triangles fresh;
-      while (remaining.size () > 3) {
-        const std::size_t r = remaining.size ();
-        double best_quality = -1.0;
-        std::size_t best = r;
-        for (std::size_t k = 0; k < r; ++k) {
-          const pcl::index_t a = remaining[(k + r - 1) % r], b = remaining[k], c = remaining[(k + 1) % r];
-          const double area = cross2 (at[a], at[b], at[c]);
-          if (!(area > 0.0))
-            continue;
-          bool empty = true;
-          for (const pcl::index_t x : remaining)
-            if (x != a && x != b && x != c && cross2 (at[a], at[b], at[x]) >= 0.0 &&
-                cross2 (at[b], at[c], at[x]) >= 0.0 && cross2 (at[c], at[a], at[x]) >= 0.0) {
-              empty = false;
-              break;
-            }
-          if (!empty)
-            continue;
-          const double longest = std::max ({(at[a] - at[b]).squaredNorm (), (at[b] - at[c]).squaredNorm (),
-                                            (at[c] - at[a]).squaredNorm ()});
-          if (area / longest > best_quality) {
-            best_quality = area / longest;
-            best = k;
-          }
-        }
-        if (best == r)
-          return Triangles ();
-        fresh.push_back ({remaining[(best + r - 1) % r], remaining[best], remaining[(best + 1) % r]});
-        remaining.erase (remaining.begin () + static_cast<std::ptrdiff_t> (best));
-      }
-      if (!(cross2 (at[remaining[0]], at[remaining[1]], at[remaining[2]]) > 0.0))
-        return Triangles ();
-      fresh.push_back ({remaining[0], remaining[1], remaining[2]});
-
-      // Interior vertices put back, each into the triangle it falls in (strictly).
-      for (const pcl::index_t x : interior) {
-        std::size_t host = fresh.size ();
-        for (std::size_t i = 0; i < fresh.size () && host == fresh.size (); ++i) {
-          const Vec2 &a = at[fresh[i][0]], &b = at[fresh[i][1]], &c = at[fresh[i][2]];
-          const double scale = 1e-12 * ((a - b).squaredNorm () + (b - c).squaredNorm ());
-          if (cross2 (a, b, at[x]) > scale && cross2 (b, c, at[x]) > scale && cross2 (c, a, at[x]) > scale)
-            host = i;
-        }
-        if (host == fresh.size ())
-          return Triangles ();
-        const Triangle t = fresh[host];
-        fresh[host] = {t[0], t[1], x};
-        fresh.push_back ({t[1], t[2], x});
-        fresh.push_back ({t[2], t[0], x});
-      }
-      // Lawson flips towards the Delaunay triangulation in the plane (interior edges
-      // of the region only), bounded.
-      for (std::size_t sweep = 0, flips = 1; sweep < 4 * fresh.size () && flips > 0; ++sweep) {
-        flips = 0;
-        for (std::size_t i = 0; i < fresh.size (); ++i)
-          for (int k = 0; k < 3; ++k) {
-            const pcl::index_t a = fresh[i][k], b = fresh[i][(k + 1) % 3], c = fresh[i][(k + 2) % 3];
-            for (std::size_t j = 0; j < fresh.size (); ++j) {
-              if (j == i)
-                continue;
-              int l = 0;
-              while (l < 3 && !(fresh[j][l] == b && fresh[j][(l + 1) % 3] == a))
-                ++l;
-              if (l == 3)
-                continue;
-              const pcl::index_t d = fresh[j][(l + 2) % 3];
-              // Flip ab to cd when d lies inside abc's circumcircle and acd, cbd... stay
-              // counter-clockwise.
-              const Vec2 &pa = at[a], &pb = at[b], &pc = at[c], &pd = at[d];
-              if (!(cross2 (pa, pd, pc) > 0.0 && cross2 (pd, pb, pc) > 0.0))
-                break;
-              const Eigen::Matrix3d incircle =
-                  (Eigen::Matrix3d () << pa.x () - pd.x (), pa.y () - pd.y (), (pa - pd).squaredNorm (),
-                   pb.x () - pd.x (), pb.y () - pd.y (), (pb - pd).squaredNorm (),
-                   pc.x () - pd.x (), pc.y () - pd.y (), (pc - pd).squaredNorm ())
-                      .finished ();
-              if (!(incircle.determinant () > 1e-12 * std::pow ((pa - pb).squaredNorm (), 2)))
-                break;
-              bool exists = false; // cd already an edge of the new triangles
-              for (const Triangle& t : fresh)
-                for (int e = 0; e < 3; ++e)
-                  exists = exists || (t[e] == c && t[(e + 1) % 3] == d) || (t[e] == d && t[(e + 1) % 3] == c);
-              if (exists)
-                break;
-              fresh[i] = {a, d, c};
-              fresh[j] = {d, b, c};
-              ++flips;
-              break;
-            }
-          }
-      }
-      return fresh;
-    };
-    const auto mapped = [&] () -> Triangles { return mappedDisc (loop, interior, slots.size ()); };
 
     // Admissible: as many triangles, none degenerate, no edge between boundary
     // vertices that the mesh has outside the region.
@@ -380,15 +263,22 @@ public:
       return true;
     };
 
-    const std::size_t before = pairsOf (slots, nullptr);
-    if (before == unknown || before == 0)
-      return 0;
+    // The map only where the plane did not remove every pair; the disc's own pairs
+    // counted only once there is something to compare them with.
+    std::size_t before = 0, after = 0;
+    bool counted = false;
     Triangles fresh;
-    std::size_t after = before;
-    for (int way = 0; way < 2 && after > 0; ++way) {
-      Triangles candidate = way == 0 ? planar () : mapped ();
+    for (int way = 0; way < 2 && !(counted && after == 0); ++way) {
+      Triangles candidate =
+          way == 0 ? planarDisc (loop, interior) : mappedDisc (loop, interior, slots.size ());
       if (candidate.empty () || !admissible (candidate))
         continue;
+      if (!counted) {
+        before = after = pairsOf (slots, nullptr);
+        counted = true;
+        if (before == unknown)
+          return 0;
+      }
       const std::size_t pairs = pairsOf (slots, &candidate);
       if (pairs < after) {
         after = pairs;
@@ -410,6 +300,129 @@ public:
       grid_.insert (slots[i]);
     }
     return before - after;
+  }
+
+  /** The disc re-meshed in the plane of its boundary (Newell's normal): the
+    * boundary polygon, if simple there, ear-clipped (best smallest angle first),
+    * the inner vertices inserted into the triangles they fall in (strictly), Lawson
+    * flips towards the Delaunay triangulation in that plane. Empty if a step fails. */
+  Triangles
+  planarDisc (const std::vector<pcl::index_t>& loop, const std::vector<pcl::index_t>& interior) const
+  {
+    const std::size_t m = loop.size ();
+    // Plane of the boundary (Newell), projection.
+    Vec3 normal = Vec3::Zero ();
+    for (std::size_t i = 0; i < m; ++i)
+      normal += points_[loop[i]].cross (points_[loop[(i + 1) % m]]);
+    if (!(normal.norm () > 0.0))
+      return Triangles ();
+    normal.normalize ();
+    const Vec3 u = normal.unitOrthogonal (), w = normal.cross (u);
+    std::unordered_map<pcl::index_t, Vec2> at;
+    for (const auto* part : {&loop, &interior})
+      for (const pcl::index_t x : *part)
+        at[x] = Vec2 (points_[x].dot (u), points_[x].dot (w));
+    for (std::size_t i = 0; i < m; ++i)
+      for (std::size_t j = i + 2; j < m; ++j)
+        if (!(i == 0 && j == m - 1) &&
+            segmentsMeet (at[loop[i]], at[loop[(i + 1) % m]], at[loop[j]], at[loop[(j + 1) % m]]))
+          return Triangles ();
+
+    // Ear clipping of the boundary polygon, best ears first.
+    std::vector<pcl::index_t> remaining = loop;
+    Triangles fresh;
+    while (remaining.size () > 3) {
+      const std::size_t r = remaining.size ();
+      double best_quality = -1.0;
+      std::size_t best = r;
+      for (std::size_t k = 0; k < r; ++k) {
+        const pcl::index_t a = remaining[(k + r - 1) % r], b = remaining[k], c = remaining[(k + 1) % r];
+        const double area = cross2 (at[a], at[b], at[c]);
+        if (!(area > 0.0))
+          continue;
+        bool empty = true;
+        for (const pcl::index_t x : remaining)
+          if (x != a && x != b && x != c && cross2 (at[a], at[b], at[x]) >= 0.0 &&
+              cross2 (at[b], at[c], at[x]) >= 0.0 && cross2 (at[c], at[a], at[x]) >= 0.0) {
+            empty = false;
+            break;
+          }
+        if (!empty)
+          continue;
+        const double longest = std::max ({(at[a] - at[b]).squaredNorm (), (at[b] - at[c]).squaredNorm (),
+                                          (at[c] - at[a]).squaredNorm ()});
+        if (area / longest > best_quality) {
+          best_quality = area / longest;
+          best = k;
+        }
+      }
+      if (best == r)
+        return Triangles ();
+      fresh.push_back ({remaining[(best + r - 1) % r], remaining[best], remaining[(best + 1) % r]});
+      remaining.erase (remaining.begin () + static_cast<std::ptrdiff_t> (best));
+    }
+    if (!(cross2 (at[remaining[0]], at[remaining[1]], at[remaining[2]]) > 0.0))
+      return Triangles ();
+    fresh.push_back ({remaining[0], remaining[1], remaining[2]});
+
+    // Interior vertices put back, each into the triangle it falls in (strictly).
+    for (const pcl::index_t x : interior) {
+      std::size_t host = fresh.size ();
+      for (std::size_t i = 0; i < fresh.size () && host == fresh.size (); ++i) {
+        const Vec2 &a = at[fresh[i][0]], &b = at[fresh[i][1]], &c = at[fresh[i][2]];
+        const double scale = 1e-12 * ((a - b).squaredNorm () + (b - c).squaredNorm ());
+        if (cross2 (a, b, at[x]) > scale && cross2 (b, c, at[x]) > scale && cross2 (c, a, at[x]) > scale)
+          host = i;
+      }
+      if (host == fresh.size ())
+        return Triangles ();
+      const Triangle t = fresh[host];
+      fresh[host] = {t[0], t[1], x};
+      fresh.push_back ({t[1], t[2], x});
+      fresh.push_back ({t[2], t[0], x});
+    }
+    // Lawson flips towards the Delaunay triangulation in the plane (interior edges
+    // of the region only), bounded.
+    for (std::size_t sweep = 0, flips = 1; sweep < 4 * fresh.size () && flips > 0; ++sweep) {
+      flips = 0;
+      for (std::size_t i = 0; i < fresh.size (); ++i)
+        for (int k = 0; k < 3; ++k) {
+          const pcl::index_t a = fresh[i][k], b = fresh[i][(k + 1) % 3], c = fresh[i][(k + 2) % 3];
+          for (std::size_t j = 0; j < fresh.size (); ++j) {
+            if (j == i)
+              continue;
+            int l = 0;
+            while (l < 3 && !(fresh[j][l] == b && fresh[j][(l + 1) % 3] == a))
+              ++l;
+            if (l == 3)
+              continue;
+            const pcl::index_t d = fresh[j][(l + 2) % 3];
+            // Flip ab to cd when d lies inside abc's circumcircle and acd, cbd... stay
+            // counter-clockwise.
+            const Vec2 &pa = at[a], &pb = at[b], &pc = at[c], &pd = at[d];
+            if (!(cross2 (pa, pd, pc) > 0.0 && cross2 (pd, pb, pc) > 0.0))
+              break;
+            const Eigen::Matrix3d incircle =
+                (Eigen::Matrix3d () << pa.x () - pd.x (), pa.y () - pd.y (), (pa - pd).squaredNorm (),
+                 pb.x () - pd.x (), pb.y () - pd.y (), (pb - pd).squaredNorm (),
+                 pc.x () - pd.x (), pc.y () - pd.y (), (pc - pd).squaredNorm ())
+                    .finished ();
+            if (!(incircle.determinant () > 1e-12 * std::pow ((pa - pb).squaredNorm (), 2)))
+              break;
+            bool exists = false; // cd already an edge of the new triangles
+            for (const Triangle& t : fresh)
+              for (int e = 0; e < 3; ++e)
+                exists = exists || (t[e] == c && t[(e + 1) % 3] == d) || (t[e] == d && t[(e + 1) % 3] == c);
+            if (exists)
+              break;
+            fresh[i] = {a, d, c};
+            fresh[j] = {d, b, c};
+            ++flips;
+            break;
+          }
+        }
+    }
+    return fresh;
   }
 
   /** The disc re-meshed in a map: its loop on the unit circle (chord length), each

@@ -32,15 +32,36 @@ expectSameSphere (const Mesh& before, const Mesh& after, const MeshReport& repor
   EXPECT_GT (report.signed_volume, 0.0);
 }
 
-/** The first neighbour (in triangle order) of vertex v. */
-pcl::index_t
-someNeighbour (const Mesh& m, pcl::index_t v)
+/** The sphere with vertex v moved past its first neighbour (in triangle order) by
+  * `beyond` times their distance, back onto the unit sphere: v's fan folds over
+  * the neighbour's. */
+Mesh
+foldPastNeighbour (const Mesh& sphere, pcl::index_t v, double beyond)
 {
-  for (const auto& t : m.triangles)
-    for (int k = 0; k < 3; ++k)
+  pcl::index_t w = -1;
+  for (const auto& t : sphere.triangles)
+    for (int k = 0; k < 3 && w < 0; ++k)
       if (t[k] == v)
-        return t[(k + 1) % 3];
-  return -1;
+        w = t[(k + 1) % 3];
+  EXPECT_GE (w, 0);
+  Mesh folded = sphere;
+  if (w >= 0)
+    folded.vertices[v] =
+        (sphere.vertices[w] + beyond * (sphere.vertices[w] - sphere.vertices[v])).normalized ();
+  return folded;
+}
+
+/** The mesh after repairFoldsByReinsertion of the pairs `found` lists. */
+Mesh
+repaired (const Mesh& mesh,
+          const MeshReport& found,
+          FoldRepairResult& result,
+          const FoldRepairOptions& options = {})
+{
+  Mesh out = mesh;
+  result = repairFoldsByReinsertion (out.vertices, out.triangles, found.intersecting_pairs, options);
+  EXPECT_TRUE (result.success) << result.message;
+  return out;
 }
 
 } // namespace
@@ -50,25 +71,18 @@ TEST (FoldRepair, AVertexPushedPastItsNeighbourIsPutBack)
   const Mesh sphere = geodesicSphere (8);
   ASSERT_EQ (checkAll (sphere).self_intersecting_pairs, 0u);
   for (const pcl::index_t v : {100, 333, 500}) {
-    Mesh folded = sphere;
-    const pcl::index_t w = someNeighbour (sphere, v);
-    ASSERT_GE (w, 0);
-    // On the sphere, beyond its neighbour: its fan folds over the neighbour's.
-    folded.vertices[v] =
-        (sphere.vertices[w] + 0.6 * (sphere.vertices[w] - sphere.vertices[v])).normalized ();
+    const Mesh folded = foldPastNeighbour (sphere, v, 0.6);
     const MeshReport fold = checkAll (folded);
     ASSERT_GT (fold.self_intersecting_pairs, 0u) << "vertex " << v;
 
-    Mesh repaired = folded;
-    const FoldRepairResult result =
-        repairFoldsByReinsertion (repaired.vertices, repaired.triangles, fold.intersecting_pairs);
-    ASSERT_TRUE (result.success) << result.message;
-    const MeshReport after = checkAll (repaired);
+    FoldRepairResult result;
+    const Mesh mesh = repaired (folded, fold, result);
+    const MeshReport after = checkAll (mesh);
     EXPECT_EQ (result.pairs_before, fold.self_intersecting_pairs);
     EXPECT_EQ (result.pairs_after, after.self_intersecting_pairs);
     EXPECT_EQ (after.self_intersecting_pairs, 0u) << "vertex " << v;
     EXPECT_GT (result.regions_remeshed, 0u);
-    expectSameSphere (folded, repaired, after);
+    expectSameSphere (folded, mesh, after);
   }
 }
 
@@ -81,11 +95,8 @@ TEST (FoldRepair, ACrossingItCannotOpenIsLeftAsItWas)
   pierced.vertices[100] *= -1.2;
   const MeshReport before = checkAll (pierced);
   ASSERT_GT (before.self_intersecting_pairs, 0u);
-  Mesh repaired = pierced;
-  const FoldRepairResult result =
-      repairFoldsByReinsertion (repaired.vertices, repaired.triangles, before.intersecting_pairs);
-  ASSERT_TRUE (result.success) << result.message;
-  const MeshReport after = checkAll (repaired);
+  FoldRepairResult result;
+  const MeshReport after = checkAll (repaired (pierced, before, result));
   EXPECT_LE (after.self_intersecting_pairs, before.self_intersecting_pairs);
   EXPECT_GT (after.self_intersecting_pairs, 0u);
   EXPECT_EQ (result.pairs_after, after.self_intersecting_pairs);
@@ -120,21 +131,16 @@ TEST (FoldRepair, ManyFoldsAtOnceOnALargerSphere)
   // same closed sphere through every vertex.
   const Mesh sphere = geodesicSphere (24);
   Mesh folded = sphere;
-  for (pcl::index_t v = 50; v < static_cast<pcl::index_t> (sphere.vertices.size ()); v += 397) {
-    const pcl::index_t w = someNeighbour (sphere, v);
-    folded.vertices[v] =
-        (sphere.vertices[w] + 0.5 * (sphere.vertices[w] - sphere.vertices[v])).normalized ();
-  }
+  for (pcl::index_t v = 50; v < static_cast<pcl::index_t> (sphere.vertices.size ()); v += 397)
+    folded.vertices[v] = foldPastNeighbour (sphere, v, 0.5).vertices[v];
   const MeshReport fold = checkAll (folded);
   ASSERT_GT (fold.self_intersecting_pairs, 10u);
-  Mesh repaired = folded;
-  const FoldRepairResult result =
-      repairFoldsByReinsertion (repaired.vertices, repaired.triangles, fold.intersecting_pairs);
-  ASSERT_TRUE (result.success) << result.message;
-  const MeshReport after = checkAll (repaired);
+  FoldRepairResult result;
+  const Mesh mesh = repaired (folded, fold, result);
+  const MeshReport after = checkAll (mesh);
   EXPECT_EQ (after.self_intersecting_pairs, 0u);
   EXPECT_EQ (result.pairs_after, 0u);
-  expectSameSphere (folded, repaired, after);
+  expectSameSphere (folded, mesh, after);
 }
 
 TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)
@@ -143,18 +149,12 @@ TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)
   // onto any plane; with the cloud's neighbourhoods and normals the repair maps
   // them instead and opens the fold.
   const Mesh sphere = geodesicSphere (2);
-  Mesh folded = sphere;
-  const pcl::index_t v = 30, w = someNeighbour (sphere, v);
-  folded.vertices[v] =
-      (sphere.vertices[w] + 0.3 * (sphere.vertices[w] - sphere.vertices[v])).normalized ();
+  const Mesh folded = foldPastNeighbour (sphere, 30, 0.3);
   const MeshReport fold = checkAll (folded);
   ASSERT_GT (fold.self_intersecting_pairs, 0u);
 
-  Mesh planar_only = folded;
-  const FoldRepairResult planar = repairFoldsByReinsertion (
-      planar_only.vertices, planar_only.triangles, fold.intersecting_pairs);
-  ASSERT_TRUE (planar.success) << planar.message;
-  EXPECT_GT (checkAll (planar_only).self_intersecting_pairs, 0u);
+  FoldRepairResult planar;
+  EXPECT_GT (checkAll (repaired (folded, fold, planar)).self_intersecting_pairs, 0u);
 
   const CsrGraph neighbours = meshless_test::bruteForceKnn (folded.vertices, 8);
   std::vector<Eigen::Vector3f> normals;
@@ -163,10 +163,8 @@ TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)
   FoldRepairOptions options;
   options.neighbours = &neighbours;
   options.normals = &normals;
-  Mesh mapped = folded;
-  const FoldRepairResult result =
-      repairFoldsByReinsertion (mapped.vertices, mapped.triangles, fold.intersecting_pairs, options);
-  ASSERT_TRUE (result.success) << result.message;
+  FoldRepairResult result;
+  const Mesh mapped = repaired (folded, fold, result, options);
   const MeshReport after = checkAll (mapped);
   EXPECT_EQ (after.self_intersecting_pairs, 0u);
   EXPECT_EQ (result.pairs_after, 0u);

@@ -237,6 +237,18 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     triangles = std::move (result.triangles);
   }
 
+  // Sphere topology: the share of the mesh's area facing against the cloud's
+  // oriented normals (meshless::areaFacingAgainstNormals). A mesh turned as a whole
+  // (see the check below) faces against its normals everywhere: it is measured
+  // against the normals turned too. 0 in disc mode.
+  auto areaAgainstNormals = [&] (const meshless::Triangles& mesh_triangles,
+                                 const std::vector<Eigen::Vector3f>& mesh_normals) {
+    if (!sphere || mesh_normals.size () != points.size ())
+      return 0.0;
+    const double against = meshless::areaFacingAgainstNormals (points, mesh_triangles, mesh_normals);
+    return std::min (against, 1.0 - against);
+  };
+
   // Optimization and the class's own check of its result before it reports
   // success; an empty string, or what is wrong.
   auto optimizeAndCheck = [&] (meshless::Triangles& mesh_triangles,
@@ -270,15 +282,10 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     // below whatever the repair does, and its thousands of pairs would cost seconds
     // (a thin sheet of 1,800 points: 0.2 -> 5.5 s).
     repair = {};
-    const auto turnedBack = [&] () {
-      if (!sphere || mesh_normals.size () != points.size ())
-        return false;
-      const double against = meshless::areaFacingAgainstNormals (points, mesh_triangles, mesh_normals);
-      return std::min (against, 1.0 - against) > max_area_against_normals;
-    };
     if (mesh.self_intersecting_pairs > 0 &&
         mesh.intersecting_pairs.size () == mesh.self_intersecting_pairs && mesh.isManifold () &&
-        mesh.isOriented () && !turnedBack ()) {
+        mesh.isOriented () &&
+        areaAgainstNormals (mesh_triangles, mesh_normals) <= max_area_against_normals) {
       const auto repair_start = std::chrono::steady_clock::now ();
       meshless::FoldRepairOptions repair_options;
       if (mesh_normals.size () == points.size ()) {
@@ -329,12 +336,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // passes through itself between parts far apart on the mesh, where a local fold
   // of the triangulation never reaches (see meshless::distantIntersectingPairs).
   auto turnsBack = [&] () {
-    report_.area_against_normals =
-        sphere ? meshless::areaFacingAgainstNormals (points, triangles, normals) : 0.0;
-    // A mesh turned as a whole (see the check above) faces against its normals
-    // everywhere: measure against the normals turned too.
-    report_.area_against_normals =
-        std::min (report_.area_against_normals, 1.0 - report_.area_against_normals);
+    report_.area_against_normals = areaAgainstNormals (triangles, normals);
     report_.distant_intersecting_pairs =
         sphere ? meshless::distantIntersectingPairs (points.size (), triangles,
                                                      report_.mesh.intersecting_pairs,
