@@ -5,6 +5,8 @@
 #pragma once
 
 #include <pcl/common/point_tests.h> // pcl::isFinite
+
+#include <limits>
 #include <pcl/conversions.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
@@ -31,6 +33,28 @@ SphericalMeshlessReconstruction<PointInT>::inputIsUsable ()
         report_.message = "an index lies outside the input cloud (setIndices)";
         break;
       }
+  // PCL's kd-tree (FLANN, built by MeshConstruction before computeReconstruction)
+  // measures squared distances in float: finite points more than about 1.8e19
+  // apart overflow them, and FLANN's tree building asserts (a fuzzer finding).
+  if (report_.message.empty ()) {
+    Eigen::Array3d lo = Eigen::Array3d::Constant (std::numeric_limits<double>::max ());
+    Eigen::Array3d hi = -lo;
+    const auto extend = [&] (const PointInT& p) {
+      if (pcl::isFinite (p)) {
+        lo = lo.min (p.getVector3fMap ().template cast<double> ().array ());
+        hi = hi.max (p.getVector3fMap ().template cast<double> ().array ());
+      }
+    };
+    if (indices_)
+      for (const auto i : *indices_)
+        extend ((*input_)[i]);
+    else
+      for (const auto& p : *input_)
+        extend (p);
+    if ((hi >= lo).all () && !((hi - lo).maxCoeff () <= 1e18))
+      report_.message = "the points span more than 1e18 units, beyond what the float kd-tree "
+                        "can measure (scale the cloud)";
+  }
   if (report_.message.empty ())
     return true;
   PCL_ERROR ("[pcl::%s::reconstruct] %s\n", getClassName ().c_str (), report_.message.c_str ());
