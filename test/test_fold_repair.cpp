@@ -153,8 +153,11 @@ TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)
   const MeshReport fold = checkAll (folded);
   ASSERT_GT (fold.self_intersecting_pairs, 0u);
 
+  FoldRepairOptions planar_only;
+  planar_only.swaps = false;
+  planar_only.max_passes = 1;
   FoldRepairResult planar;
-  EXPECT_GT (checkAll (repaired (folded, fold, planar)).self_intersecting_pairs, 0u);
+  EXPECT_GT (checkAll (repaired (folded, fold, planar, planar_only)).self_intersecting_pairs, 0u);
 
   const CsrGraph neighbours = meshless_test::bruteForceKnn (folded.vertices, 8);
   std::vector<Eigen::Vector3f> normals;
@@ -169,4 +172,35 @@ TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)
   EXPECT_EQ (after.self_intersecting_pairs, 0u);
   EXPECT_EQ (result.pairs_after, 0u);
   expectSameSphere (folded, mapped, after);
+}
+
+TEST (FoldRepair, SwapsLowerWhatNoDiscCanReach)
+{
+  // Discs switched off (none is small enough to be tried): edge swaps alone must
+  // lower the pair count of folded fans, report it exactly, and keep the same
+  // closed sphere; with swaps switched off too, nothing changes.
+  const Mesh sphere = geodesicSphere (12);
+  Mesh folded = sphere;
+  for (const pcl::index_t v : {60, 400, 900})
+    folded.vertices[v] = foldPastNeighbour (sphere, v, 0.4).vertices[v];
+  const MeshReport fold = checkAll (folded);
+  ASSERT_GT (fold.self_intersecting_pairs, 0u);
+
+  FoldRepairOptions no_discs;
+  no_discs.max_region_triangles = 3;
+  no_discs.swaps = false;
+  FoldRepairResult idle;
+  const Mesh untouched = repaired (folded, fold, idle, no_discs);
+  EXPECT_EQ (untouched.triangles, folded.triangles);
+  EXPECT_EQ (idle.pairs_after, fold.self_intersecting_pairs);
+
+  no_discs.swaps = true;
+  FoldRepairResult result;
+  const Mesh swapped = repaired (folded, fold, result, no_discs);
+  const MeshReport after = checkAll (swapped);
+  EXPECT_GT (result.swaps, 0u);
+  EXPECT_EQ (result.regions_remeshed, 0u);
+  EXPECT_LT (after.self_intersecting_pairs, fold.self_intersecting_pairs);
+  EXPECT_EQ (result.pairs_after, after.self_intersecting_pairs);
+  expectSameSphere (folded, swapped, after);
 }

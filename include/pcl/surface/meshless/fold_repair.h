@@ -41,6 +41,13 @@ struct FoldRepairOptions
   /** \brief Rounds over the vertices of intersecting triangles (a round looks
     * again only where the last one re-meshed). Default 4. */
   int max_rounds = 4;
+  /** \brief After the discs, swap edges through the vertices of triangles that
+    * still intersect, one or two in a row, where that lowers the number of
+    * intersecting pairs. Default true. */
+  bool swaps = true;
+  /** \brief Passes of discs then swaps (a pass after the first starts from the
+    * triangles still intersecting). Default 2. */
+  int max_passes = 2;
   /** \brief Larger discs are not tried. Default 300 triangles. */
   std::size_t max_region_triangles = 300;
   /** \brief Optional: the cloud's neighbourhoods (e.g. the kNN graph) and oriented
@@ -58,6 +65,8 @@ struct FoldRepairResult : StageStatus
   std::size_t pairs_before = 0, pairs_after = 0;
   /** \brief Discs re-meshed. */
   std::size_t regions_remeshed = 0;
+  /** \brief Edge swaps (single or in twos) that lowered the pair count. */
+  std::size_t swaps = 0;
 };
 
 /** \brief Re-mesh small discs around the vertices of intersecting triangles
