@@ -41,6 +41,8 @@ usage (const char* program)
       "  -topology T          sphere (closed, default) or disc (open surface)\n"
       "  -optimize 0|1        edge-swap optimization (default 1)\n"
       "  -base B              tetrahedron|octahedron|icosahedron (default tetrahedron)\n"
+      "  -retries N           further base meshes tried while the result intersects\n"
+      "                       itself (default 2; 0 for speed)\n"
       "  -threads N           worker threads (default: all cores)\n",
       program, program);
 }
@@ -115,6 +117,12 @@ main (int argc, char** argv)
           reconstruction.setTopology (Reconstruction::Topology::Disc);
         else
           return fail ("unknown topology '" + t + "' (sphere|disc)");
+      }
+      else if (arg == "-retries") {
+        const int retries = std::stoi (value ());
+        if (retries < 0)
+          return fail ("-retries needs a number of at least 0");
+        reconstruction.setBaseRetries (retries);
       }
       else if (arg == "-base") {
         const std::string b = value ();

@@ -42,6 +42,10 @@ struct SphericalMeshlessReport
   /** \brief The result comes from the second attempt with thin parts separated
     * (the first one intersected itself more). */
   bool thin_sheet_retry = false;
+  /** \brief Further base meshes tried because the result intersected itself, and
+    * whether one of them gave the result (fewer intersecting pairs). */
+  std::size_t base_retries = 0;
+  bool base_retry_kept = false;
   /** \brief The edge-swap optimization (when enabled). */
   meshless::EdgeSwapResult optimization;
   /** \brief Local folds the check found, re-meshed away where possible
@@ -248,6 +252,22 @@ public:
     progress_ = std::move (callback);
   }
 
+  /** \brief Sphere topology: how many further base meshes (the next rotations and
+    * polyhedra) to try when the result still intersects itself after the swaps and
+    * the repair; the result with the fewest intersecting pairs is kept. Each try
+    * costs about one more run, and only runs with pairs left make them. Ignored with
+    * a user base mesh. Default 2. */
+  inline void
+  setBaseRetries (int retries)
+  {
+    base_retries_ = retries;
+  }
+  inline int
+  getBaseRetries () const
+  {
+    return base_retries_;
+  }
+
   /** \brief Whether the output check counts self-intersecting triangle pairs
     * (default true; costs about as much as one stage). */
   inline void
@@ -315,6 +335,7 @@ private:
   bool check_self_intersections_ = true;
   bool optimize_ = true;
   meshless::EdgeSwapOptions swap_options_;
+  int base_retries_ = 2;
   SphericalMeshlessReport report_;
 };
 

@@ -119,6 +119,8 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     return fail ("the search radius must be finite and not negative (setSearchRadius)");
   if (radius_ == 0.0 && k_ < 3)
     return fail ("the number of neighbours must be at least 3 (setNumberOfNeighbours)");
+  if (base_retries_ < 0)
+    return fail ("the number of base mesh retries must not be negative (setBaseRetries)");
   // Finite points through indices_ (a repeated index is the same point), then
   // exact duplicates merged into the first.
   pcl::Indices finite;
@@ -325,7 +327,8 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                         .count (),
                     std::to_string (repair.pairs_before) + " -> " +
                         std::to_string (mesh.self_intersecting_pairs) + " intersecting pairs, " +
-                        std::to_string (repair.regions_remeshed) + " discs re-meshed"}))
+                        std::to_string (repair.regions_remeshed) + " discs re-meshed, " +
+                        std::to_string (repair.swaps) + " swaps"}))
         return "cancelled by the progress callback";
     }
     // Outward, judged after the repair (re-meshing the fan of a far outlier moves
@@ -359,16 +362,50 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // the cloud's oriented normals (see meshless::areaFacingAgainstNormals) or it
   // passes through itself between parts far apart on the mesh, where a local fold
   // of the triangulation never reaches (see meshless::distantIntersectingPairs).
+  auto turnsBackWith = [&] (const meshless::Triangles& mesh_triangles,
+                            const std::vector<Eigen::Vector3f>& mesh_normals,
+                            const meshless::MeshReport& mesh, double& against,
+                            std::size_t& distant) {
+    against = areaAgainstNormals (mesh_triangles, mesh_normals);
+    distant = sphere ? meshless::distantIntersectingPairs (points.size (), mesh_triangles,
+                                                           mesh.intersecting_pairs,
+                                                           max_local_fold_hops)
+                     : 0;
+    return mesh.self_intersecting_pairs > 0 &&
+           (against > max_area_against_normals || distant > 0);
+  };
   auto turnsBack = [&] () {
-    report_.area_against_normals = areaAgainstNormals (triangles, normals);
-    report_.distant_intersecting_pairs =
-        sphere ? meshless::distantIntersectingPairs (points.size (), triangles,
-                                                     report_.mesh.intersecting_pairs,
-                                                     max_local_fold_hops)
-               : 0;
-    return report_.mesh.self_intersecting_pairs > 0 &&
-           (report_.area_against_normals > max_area_against_normals ||
-            report_.distant_intersecting_pairs > 0);
+    return turnsBackWith (triangles, normals, report_.mesh, report_.area_against_normals,
+                          report_.distant_intersecting_pairs);
+  };
+
+  // Another run of the sphere pipeline with `options`, optimized, repaired and
+  // checked; it replaces the result if it is valid, does not turn back and
+  // intersects itself less. Returns the number of the attempt whose base mesh the
+  // run used, or -1 if it found none.
+  auto tryAnother = [&] (const meshless::SpherePipelineOptions& options, bool& kept) {
+    kept = false;
+    meshless::SphereTriangulation other = meshless::triangulateSphere (points, nb.neighbours, options);
+    if (!other.success)
+      return -1;
+    const int attempt = other.stats.base_attempt;
+    meshless::EdgeSwapResult optimization;
+    meshless::FoldRepairResult repair;
+    meshless::MeshReport mesh;
+    double against = 0.0;
+    std::size_t distant = 0;
+    if (optimizeAndCheck (other.triangles, other.normals, optimization, repair, mesh).empty () &&
+        mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs &&
+        !turnsBackWith (other.triangles, other.normals, mesh, against, distant)) {
+      triangles = std::move (other.triangles);
+      normals = std::move (other.normals);
+      report_.stats = other.stats;
+      report_.optimization = optimization;
+      report_.fold_repair = repair;
+      report_.mesh = mesh;
+      kept = true;
+    }
+    return attempt;
   };
 
   // Where the surface is thinner than the point spacing, kNN edges join its two
@@ -378,21 +415,36 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // cloud without such edges (counted by the first run) makes none.
   if (sphere && report_.mesh.self_intersecting_pairs > 0 && report_.stats.thin_part_edges > 0 &&
       !turnsBack ()) {
-    sphere_options.separate_thin_sheets = true;
-    meshless::SphereTriangulation second =
-        meshless::triangulateSphere (points, nb.neighbours, sphere_options);
-    meshless::EdgeSwapResult optimization;
-    meshless::FoldRepairResult repair;
-    meshless::MeshReport mesh;
-    if (second.success && optimizeAndCheck (second.triangles, second.normals, optimization, repair, mesh).empty () &&
-        mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs) {
-      triangles = std::move (second.triangles);
-      normals = std::move (second.normals);
-      report_.stats = second.stats;
-      report_.optimization = optimization;
-      report_.fold_repair = repair;
-      report_.mesh = mesh;
+    meshless::SpherePipelineOptions thin = sphere_options;
+    thin.separate_thin_sheets = true;
+    bool kept = false;
+    tryAnother (thin, kept);
+    if (kept) {
       report_.thin_sheet_retry = true;
+      sphere_options = thin;
+    }
+  }
+
+  // Other base meshes cut the surface elsewhere, and a fold left by one layout may
+  // not form in another (measured: horse 5 -> 0 pairs with the next rotation).
+  // Further attempts of the same deterministic sequence, after the one the result
+  // came from; the result with the fewest pairs is kept. Not for a result that
+  // turns back (a handle or a boundary): another layout may hide the handle
+  // behind a membrane without intersecting itself (measured on rocker_arm), a
+  // genus-0 surface, but not a faithful one.
+  if (sphere && base_faces_.empty () && report_.mesh.self_intersecting_pairs > 0 &&
+      !turnsBack ()) {
+    int last_attempt = report_.stats.base_attempt;
+    for (int retry = 0; retry < base_retries_ && report_.mesh.self_intersecting_pairs > 0;
+         ++retry) {
+      meshless::SpherePipelineOptions next = sphere_options;
+      next.first_attempt = last_attempt + 1;
+      ++report_.base_retries;
+      bool kept = false;
+      last_attempt = tryAnother (next, kept);
+      report_.base_retry_kept |= kept;
+      if (last_attempt < 0)
+        break;
     }
   }
   if (sphere && turnsBack ())

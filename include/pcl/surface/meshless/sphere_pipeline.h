@@ -44,6 +44,11 @@ struct SpherePipelineOptions
   /** \brief How many rotations of the polyhedron to try when paths cross or a
     * region cannot be formed. Default 12. */
   int max_base_attempts = 12;
+  /** \brief Number of the first attempt (0: the unrotated polyhedron). Attempts are
+    * numbered in one deterministic sequence of rotations and polyhedra; a caller
+    * that wants a different D than the one a run succeeded with starts after it
+    * (SpherePipelineStats::base_attempt + 1). Default 0. */
+  int first_attempt = 0;
   /** \brief Whether every second attempt uses the next larger polyhedron
     * (tetrahedron -> octahedron -> icosahedron -> tetrahedron) instead of the next
     * rotation. Default true. */
@@ -64,7 +69,11 @@ struct SpherePipelineOptions
 /** \brief Statistics of a run (for logs, the CLI and benchmarks). */
 struct SpherePipelineStats
 {
+  /** \brief Attempts made in this run. */
   std::size_t base_attempts = 0;
+  /** \brief Number of the attempt whose D the result was made with (see
+    * SpherePipelineOptions::first_attempt). */
+  int base_attempt = 0;
   std::size_t base_faces = 0;
   std::size_t path_points = 0;
   std::size_t largest_patch = 0;
