@@ -293,47 +293,18 @@ public:
     return before - after;
   }
 
-  /** Swaps of the edges through v, one or two in a row, that lower the number of
+  /** Swaps of the edges through v, up to `depth` in a row, that lower the number of
     * intersecting pairs: where a thin part's two sides come closer than the point
     * spacing, a triangle across the part can often be turned away by a swap where
     * no disc around v projects simply. A swap is tried only if it creates no edge
     * twice, no degenerate triangle, and no triangle facing against its vertices'
-    * normals (or against its partner's); a second swap only next to a first.
+    * normals (or against its partner's); each further swap next to the last.
     * Returns the decrease (0 if nothing changed). */
   std::size_t
-  trySwaps (pcl::index_t v)
+  trySwaps (pcl::index_t v, int depth)
   {
-    for (const auto& [a, b] : edgesThrough (v)) {
-      Swap first;
-      if (!swapFor (a, b, first))
-        continue;
-      const long gain = apply (first);
-      if (gain == unknown_gain) {
-        undo (first);
-        continue;
-      }
-      if (gain > 0)
-        return static_cast<std::size_t> (gain);
-      // A second swap next to the first.
-      std::vector<std::pair<pcl::index_t, pcl::index_t>> near;
-      for (const std::int32_t t : first.slots)
-        for (const pcl::index_t x : triangles_[t])
-          for (const auto& edge : edgesThrough (x))
-            near.push_back (edge);
-      std::sort (near.begin (), near.end ());
-      near.erase (std::unique (near.begin (), near.end ()), near.end ());
-      for (const auto& [c, d] : near) {
-        Swap second;
-        if (!swapFor (c, d, second))
-          continue;
-        const long more = apply (second);
-        if (more != unknown_gain && gain + more > 0)
-          return static_cast<std::size_t> (gain + more);
-        undo (second);
-      }
-      undo (first);
-    }
-    return 0;
+    const long gain = swapSearch (edgesThrough (v), depth, 0);
+    return gain > 0 ? static_cast<std::size_t> (gain) : 0;
   }
 
   /** The disc re-meshed in the plane of its boundary (Newell's normal): the
@@ -660,6 +631,39 @@ private:
     return true;
   }
 
+  /** Depth first: each edge of `edges` swapped in turn on top of the swaps made so
+    * far (which gained `so_far`); kept, with the total gain returned, as soon as
+    * that is positive, otherwise undone after trying up to `depth - 1` more swaps
+    * next to it. */
+  long
+  swapSearch (const std::vector<std::pair<pcl::index_t, pcl::index_t>>& edges, int depth, long so_far)
+  {
+    for (const auto& [a, b] : edges) {
+      Swap swap;
+      if (!swapFor (a, b, swap))
+        continue;
+      const long gain = apply (swap);
+      if (gain != unknown_gain) {
+        if (so_far + gain > 0)
+          return so_far + gain;
+        if (depth > 1) {
+          std::vector<std::pair<pcl::index_t, pcl::index_t>> near;
+          for (const std::int32_t t : swap.slots)
+            for (const pcl::index_t x : triangles_[t])
+              for (const auto& edge : edgesThrough (x))
+                near.push_back (edge);
+          std::sort (near.begin (), near.end ());
+          near.erase (std::unique (near.begin (), near.end ()), near.end ());
+          const long total = swapSearch (near, depth - 1, so_far + gain);
+          if (total > 0)
+            return total;
+        }
+      }
+      undo (swap);
+    }
+    return 0;
+  }
+
   /** Makes the swap; returns the decrease in intersecting pairs (negative if they
     * grow; unknown_gain if the grid cannot tell). */
   long
@@ -820,7 +824,7 @@ repairFoldsByReinsertion (const Points3& points,
       }
       return gain;
     };
-    auto swaps = [&] (pcl::index_t v) { return repair.trySwaps (v); };
+    auto swaps = [&] (pcl::index_t v) { return repair.trySwaps (v, options.max_swaps_in_a_row); };
     // Discs first, then swaps where pairs are left (interleaved, a swap can take
     // a disc's chance away: a 1:1:20 ellipsoid, 0 pairs with discs first, 4
     // interleaved); and again, as each opens folds for the other (bunny_igl: 34 ->

@@ -42,9 +42,12 @@ struct FoldRepairOptions
     * again only where the last one re-meshed). Default 4. */
   int max_rounds = 4;
   /** \brief After the discs, swap edges through the vertices of triangles that
-    * still intersect, one or two in a row, where that lowers the number of
+    * still intersect, up to max_swaps_in_a_row in a row, where that lowers the number of
     * intersecting pairs. Default true. */
   bool swaps = true;
+  /** \brief Swaps tried in a row before giving up on an edge (measured on
+    * bunny_igl: 2 -> 20 pairs in 1 s, 3 -> 19 in 6 s, 4 -> 11 in 77 s). Default 2. */
+  int max_swaps_in_a_row = 2;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
     * triangles still intersecting). Default 2. */
   int max_passes = 2;
