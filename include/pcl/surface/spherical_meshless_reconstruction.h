@@ -6,6 +6,7 @@
 
 #include <pcl/Vertices.h>
 #include <pcl/surface/meshless/base_mesh.h>
+#include <pcl/surface/meshless/convex_hull.h>
 #include <pcl/surface/meshless/disc_pipeline.h>
 #include <pcl/surface/meshless/edge_swap.h>
 #include <pcl/surface/meshless/fold_repair.h>
@@ -42,6 +43,11 @@ struct SphericalMeshlessReport
   /** \brief The result comes from the second attempt with thin parts separated
     * (the first one intersected itself more). */
   bool thin_sheet_retry = false;
+  /** \brief On a small cloud (at most
+    * SphericalMeshlessReconstruction::max_hull_points points) whose points all lie
+    * on their convex hull, the pipeline failed or its mesh intersected itself, and
+    * the hull is the result (meshless::convexHullThroughAll; not optimized). */
+  bool convex_hull = false;
   /** \brief Further base meshes tried because the result intersected itself, and
     * whether one of them gave the result (fewer intersecting pairs). */
   std::size_t base_retries = 0;
@@ -120,6 +126,10 @@ public:
     * layered bunny_rawscans_merged10, at most 8); rocker_arm (genus 1): 91 of its
     * 140 pairs more than 32 edges apart. */
   static constexpr std::size_t max_local_fold_hops = 16;
+  /** \brief Clouds up to this size whose pipeline fails or leaves intersecting
+    * pairs get their convex hull if every point lies on it (see
+    * SphericalMeshlessReport::convex_hull). */
+  static constexpr std::size_t max_hull_points = 100;
 
   using Ptr = shared_ptr<SphericalMeshlessReconstruction<PointInT>>;
   using ConstPtr = shared_ptr<const SphericalMeshlessReconstruction<PointInT>>;

@@ -246,11 +246,25 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     meshless::SphereTriangulation result =
         meshless::triangulateSphere (points, nb.neighbours, options);
     report_.stats = result.stats;
-    if (!result.success)
-      return fail ("the spherical reconstruction failed: " + result.message);
-    triangles = std::move (result.triangles);
-    normals = std::move (result.normals);
-    sphere_options = options;
+    if (result.success) {
+      triangles = std::move (result.triangles);
+      normals = std::move (result.normals);
+      sphere_options = options;
+    }
+    else {
+      // A few dozen points leave the pipeline too little to work with; if they all
+      // lie on their convex hull, that is the closed surface through them.
+      triangles = base_faces_.empty () ? meshless::convexHullThroughAll (points, max_hull_points)
+                                       : meshless::Triangles ();
+      if (triangles.empty ())
+        return fail ("the spherical reconstruction failed: " + result.message +
+                     (k_ > 0 && radius_ <= 0.0 && static_cast<std::size_t> (k_) >= n / 4
+                          ? " (each point's neighbourhood spans a quarter of the cloud or more: "
+                            "lower setNumberOfNeighbours)"
+                          : std::string ()));
+      report_.convex_hull = true;
+      record ({"hull", 0.9, 0.0, std::to_string (triangles.size ()) + " triangles"});
+    }
   }
   else {
     meshless::DiscPipelineOptions options;
@@ -282,7 +296,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                                meshless::EdgeSwapResult& optimization,
                                meshless::FoldRepairResult& repair,
                                meshless::MeshReport& mesh) -> std::string {
-    if (optimize_) {
+    if (optimize_ && !report_.convex_hull) {
       const auto optimize_start = std::chrono::steady_clock::now ();
       optimization = meshless::optimizeBySwaps (points, mesh_triangles, swap_options_);
       if (!optimization.success)
@@ -446,6 +460,28 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
       if (last_attempt < 0)
         break;
     }
+  }
+  // A small cloud whose mesh still intersects itself (its neighbourhoods span
+  // much of it): if every point lies on the convex hull, the hull is the closed
+  // surface through them, free of intersections.
+  if (sphere && !report_.convex_hull && report_.mesh.self_intersecting_pairs > 0 &&
+      base_faces_.empty () && n <= max_hull_points) {
+    meshless::Triangles hull = meshless::convexHullThroughAll (points, max_hull_points);
+    meshless::EdgeSwapResult optimization;
+    meshless::FoldRepairResult repair;
+    meshless::MeshReport mesh;
+    report_.convex_hull = !hull.empty ();
+    if (report_.convex_hull &&
+        optimizeAndCheck (hull, normals, optimization, repair, mesh).empty () &&
+        mesh.self_intersecting_pairs == 0) {
+      triangles = std::move (hull);
+      report_.optimization = optimization;
+      report_.fold_repair = repair;
+      report_.mesh = mesh;
+      record ({"hull", 1.0, 0.0, std::to_string (triangles.size ()) + " triangles"});
+    }
+    else
+      report_.convex_hull = false;
   }
   if (sphere && turnsBack ())
     return fail ("the cloud does not look like the surface of one sphere-like object: a "
