@@ -256,12 +256,14 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
       // lie on their convex hull, that is the closed surface through them.
       triangles = base_faces_.empty () ? meshless::convexHullThroughAll (points, max_hull_points)
                                        : meshless::Triangles ();
+      // Neighbourhoods spanning much of the cloud are not local: name the setter.
+      const bool wide = 4 * nb.neighbours.numEntries () >= n * n;
       if (triangles.empty ())
         return fail ("the spherical reconstruction failed: " + result.message +
-                     (k_ > 0 && radius_ <= 0.0 && static_cast<std::size_t> (k_) >= n / 4
-                          ? " (each point's neighbourhood spans a quarter of the cloud or more: "
-                            "lower setNumberOfNeighbours)"
-                          : std::string ()));
+                     (wide ? std::string (" (the neighbourhoods span a quarter of the cloud or "
+                                          "more on average: lower ") +
+                                 (radius_ > 0.0 ? "setSearchRadius)" : "setNumberOfNeighbours)")
+                           : std::string ()));
       report_.convex_hull = true;
       record ({"hull", 0.9, 0.0, std::to_string (triangles.size ()) + " triangles"});
     }
