@@ -16,6 +16,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <numeric>
 
 namespace pcl {
@@ -108,7 +109,9 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // PointT-free pipeline -> the check of the result -> polygons over cloud indices.
   report_ = SphericalMeshlessReport ();
   polygons.clear ();
-  auto fail = [&] (const std::string& why) {
+  std::string precision_hint; // appended to failures once the points are known
+  auto fail = [&] (const std::string& reason) {
+    const std::string why = reason + precision_hint;
     report_.message = why;
     PCL_ERROR ("[pcl::%s::reconstruct] %s\n", getClassName ().c_str (), why.c_str ());
     polygons.clear ();
@@ -174,6 +177,32 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   meshless::Points3 points (n);
   for (std::size_t i = 0; i < n; ++i)
     points[i] = (*input_)[cloud_indices[i]].getVector3fMap ().template cast<double> () - centroid;
+
+  // Float coordinates far from the origin against the cloud's size (a small object
+  // in UTM coordinates) are quantized before the class sees them: at 5e6 floats
+  // are 0.5 apart, and a unit sphere collapses onto a few positions. Failures then
+  // say so, since the stage that fails cannot know why.
+  {
+    double largest = 0.0;
+    Eigen::Vector3d lo = points[0], hi = points[0];
+    for (std::size_t i = 0; i < n; ++i) {
+      largest = std::max (largest, static_cast<double> (
+                                       (*input_)[cloud_indices[i]].getVector3fMap ().cwiseAbs ().maxCoeff ()));
+      lo = lo.cwiseMin (points[i]);
+      hi = hi.cwiseMax (points[i]);
+    }
+    const double float_step = largest * static_cast<double> (std::numeric_limits<float>::epsilon ());
+    const double size = (hi - lo).norm ();
+    if (float_step > size / 200.0) {
+      char text[256];
+      std::snprintf (text, sizeof text,
+                     " (the coordinates reach %.3g against a cloud %.3g across: in float they "
+                     "are only %.3g apart there; subtract an offset such as the centroid "
+                     "before filling the cloud)",
+                     largest, size, float_step);
+      precision_hint = text;
+    }
+  }
 
   // Issue 7: a cloud with no extent in some direction (all points on one plane or
   // one line) encloses no volume. Without this check the pipeline either failed in
