@@ -1,13 +1,17 @@
 // Greedy projection and pcl::SphericalMeshlessReconstruction timed on the same clouds:
 // generated bumpy spheres of 10k and 100k points and, when present, the shared clouds
 // (../shared/data/clouds or $MESHLESS_DATA_DIR/clouds). Each benchmark reports points
-// per second; at the end the time ratio spherical / greedy per cloud, measured in the
-// same run. Greedy projection's time includes its normal estimation, both include
-// building the search tree.
+// per second; at the end the time ratios spherical / greedy and spherical / kNN floor
+// per cloud, measured in the same run, and the growth of the time per point over the
+// generated clouds. Greedy projection's time includes its normal estimation, both
+// include building the search tree. The kNN floor is one pass of PCL's KdTree build
+// plus a k = 12 query for every point, single-threaded: what any method built on
+// k nearest neighbours pays at least.
 #include "cloud_io.h"
 #include "greedy_projection.h"
 
 #include <pcl/console/print.h>
+#include <pcl/search/kdtree.h>
 #include <pcl/surface/meshless/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
@@ -18,6 +22,8 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
+#include <vector>
 
 namespace {
 
@@ -77,11 +83,28 @@ spherical (benchmark::State& state, const Cloud::ConstPtr& cloud)
 }
 
 void
+knnFloor (benchmark::State& state, const Cloud::ConstPtr& cloud)
+{
+  for (auto _ : state) {
+    pcl::search::KdTree<pcl::PointXYZ> tree;
+    tree.setInputCloud (cloud);
+    pcl::Indices neighbours;
+    std::vector<float> distances;
+    std::size_t found = 0;
+    for (const auto& p : *cloud)
+      found += static_cast<std::size_t> (tree.nearestKSearch (p, 12, neighbours, distances));
+    benchmark::DoNotOptimize (found);
+  }
+  setRate (state, cloud->size ());
+}
+
+void
 registerCloud (const std::string& name, const Cloud::ConstPtr& cloud)
 {
-  for (const char* method : {"greedy", "spherical"})
-    benchmark::RegisterBenchmark ((std::string (method) + "/" + name).c_str (),
-                                  method[0] == 'g' ? greedy : spherical, cloud)
+  const std::vector<std::pair<const char*, void (*) (benchmark::State&, const Cloud::ConstPtr&)>>
+      methods{{"knn_floor", knnFloor}, {"greedy", greedy}, {"spherical", spherical}};
+  for (const auto& [method, run] : methods)
+    benchmark::RegisterBenchmark ((std::string (method) + "/" + name).c_str (), run, cloud)
         ->Unit (benchmark::kMillisecond)
         ->UseRealTime ();
 }
@@ -109,14 +132,39 @@ public:
   Finalize () override
   {
     ConsoleReporter::Finalize ();
-    std::printf ("\ntime ratio spherical / greedy (same run):\n");
+    std::printf ("\ntime ratios (same run):  spherical / greedy   spherical / kNN floor\n");
     for (const auto& [cloud, times] : seconds_)
-      if (times.count ("greedy") && times.count ("spherical"))
-        std::printf ("  %-24s %6.2f\n", cloud.c_str (),
-                     times.at ("spherical") / times.at ("greedy"));
+      if (times.count ("spherical"))
+        std::printf ("  %-24s %18s %23s\n", cloud.c_str (),
+                     ratio (times, "greedy").c_str (), ratio (times, "knn_floor").c_str ());
+    // Near-linear growth: time per point on the generated clouds, against 100k.
+    const auto base = seconds_.find ("bumpy_sphere_100k");
+    if (base != seconds_.end () && base->second.count ("spherical")) {
+      std::printf ("\ntime per point against bumpy_sphere_100k (spherical):\n");
+      for (const auto& [cloud, points] :
+           std::vector<std::pair<std::string, double>>{{"bumpy_sphere_10k", 1e4},
+                                                       {"bumpy_sphere_100k", 1e5},
+                                                       {"bumpy_sphere_1000k", 1e6}}) {
+        const auto it = seconds_.find (cloud);
+        if (it != seconds_.end () && it->second.count ("spherical"))
+          std::printf ("  %-24s %6.2f\n", cloud.c_str (),
+                       (it->second.at ("spherical") / points) /
+                           (base->second.at ("spherical") / 1e5));
+      }
+    }
   }
 
 private:
+  static std::string
+  ratio (const std::map<std::string, double>& times, const std::string& other)
+  {
+    if (!times.count (other) || !(times.at (other) > 0.0))
+      return "-";
+    char text[32];
+    std::snprintf (text, sizeof text, "%.2f", times.at ("spherical") / times.at (other));
+    return text;
+  }
+
   /** Real time per iteration by cloud, then by method. */
   std::map<std::string, std::map<std::string, double>> seconds_;
 };
