@@ -185,11 +185,10 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   {
     double largest = 0.0;
     Eigen::Vector3d lo = points[0], hi = points[0];
-    for (std::size_t i = 0; i < n; ++i) {
-      largest = std::max (largest, static_cast<double> (
-                                       (*input_)[cloud_indices[i]].getVector3fMap ().cwiseAbs ().maxCoeff ()));
-      lo = lo.cwiseMin (points[i]);
-      hi = hi.cwiseMax (points[i]);
+    for (const auto& p : points) {
+      largest = std::max (largest, (p + centroid).cwiseAbs ().maxCoeff ());
+      lo = lo.cwiseMin (p);
+      hi = hi.cwiseMax (p);
     }
     const double float_step = largest * static_cast<double> (std::numeric_limits<float>::epsilon ());
     const double size = (hi - lo).norm ();
