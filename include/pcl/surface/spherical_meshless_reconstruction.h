@@ -54,6 +54,11 @@ struct SphericalMeshlessReport
   bool base_retry_kept = false;
   /** \brief The edge-swap optimization (when enabled). */
   meshless::EdgeSwapResult optimization;
+  /** \brief Local folds of the raw triangulation, re-meshed away before the
+    * optimization (meshless::repairFoldsByReinsertion; sphere topology with the
+    * optimization and the intersection check on, when the raw triangulation
+    * intersects itself). */
+  meshless::FoldRepairResult raw_fold_repair;
   /** \brief Local folds the check found, re-meshed away where possible
     * (meshless::repairFoldsByReinsertion; runs when the output intersects itself). */
   meshless::FoldRepairResult fold_repair;
