@@ -289,6 +289,33 @@ TriangleDistanceIndex::closest (const Vector3& p) const
   return best;
 }
 
+namespace {
+
+/** The largest distance to `index` over the points of a barycentric lattice of
+  * step 1 / steps on every face. */
+double
+latticeMax (const Points3& vertices, const Triangles& triangles,
+            const TriangleDistanceIndex& index, int steps, int threads)
+{
+  double largest = 0.0;
+  const auto count = static_cast<std::ptrdiff_t> (triangles.size ());
+#pragma omp parallel for schedule(dynamic, 256) num_threads(threads) reduction(max : largest)
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    const Triangle& t = triangles[i];
+    if (!isFace (vertices, t))
+      continue;
+    for (int a = 0; a <= steps; ++a)
+      for (int b = 0; a + b <= steps; ++b) {
+        const double u = static_cast<double> (a) / steps, v = static_cast<double> (b) / steps;
+        const Vector3 x = u * vertices[t[0]] + v * vertices[t[1]] + (1.0 - u - v) * vertices[t[2]];
+        largest = std::max (largest, index.closest (x).distance);
+      }
+  }
+  return largest;
+}
+
+} // namespace
+
 MeshDistanceReport
 compareToReference (const Points3& vertices, const Triangles& triangles,
                     const Points3& reference_vertices,
@@ -336,6 +363,16 @@ compareToReference (const Points3& vertices, const Triangles& triangles,
     report.from_reference = statistics (backward, report.diagonal);
     forward.insert (forward.end (), backward.begin (), backward.end ());
     report.two_sided = statistics (std::move (forward), report.diagonal);
+    if (options.lattice_for_max > 0) {
+      const double to = latticeMax (vertices, triangles, reference_index,
+                                    options.lattice_for_max, threads) / report.diagonal;
+      const double from = latticeMax (reference_vertices, reference_triangles, mesh_index,
+                                      options.lattice_for_max, threads) / report.diagonal;
+      report.to_reference.max = std::max (report.to_reference.max, to);
+      report.from_reference.max = std::max (report.from_reference.max, from);
+      report.two_sided.max =
+          std::max (report.to_reference.max, report.from_reference.max);
+    }
 
     // Angles in parallel into one slot per triangle, summed in order afterwards, so
     // the mean does not depend on the thread count.

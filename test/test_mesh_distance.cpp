@@ -140,6 +140,34 @@ TEST (CompareToReference, ParallelPlanesAtDistanceD)
   EXPECT_NEAR (report.normal_deviation_deg, 0.0, 1e-5);
 }
 
+TEST (CompareToReference, LatticeFindsTheApexThatSamplesMiss)
+{
+  // A pyramid of height h over the unit square: the mesh is farthest from the
+  // square at its apex, a single point a random sample all but never hits.
+  const double h = 0.3;
+  const Mesh pyramid{{{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0.5, 0.5, h}},
+                     {{0, 1, 4}, {1, 2, 4}, {2, 3, 4}, {3, 0, 4}}};
+  MeshDistanceOptions options;
+  options.samples = 200;
+  const MeshDistanceReport sampled = compareToReference (
+      pyramid.vertices, pyramid.triangles, square (0.0).vertices, square (0.0).triangles, options);
+  options.lattice_for_max = 3; // the apex is a lattice point of every face
+  const MeshDistanceReport lattice = compareToReference (
+      pyramid.vertices, pyramid.triangles, square (0.0).vertices, square (0.0).triangles, options);
+  ASSERT_TRUE (sampled.success && lattice.success);
+  const double apex = h / std::sqrt (2.0);
+  EXPECT_LT (sampled.to_reference.max, 0.99 * apex);
+  EXPECT_NEAR (lattice.to_reference.max, apex, 1e-12);
+  EXPECT_NEAR (lattice.two_sided.max, apex, 1e-12);
+  // Every point of the square lies within h of the pyramid; the lattice can only
+  // raise the sampled maximum.
+  EXPECT_LE (lattice.from_reference.max, apex + 1e-12);
+  EXPECT_GE (lattice.from_reference.max, sampled.from_reference.max);
+  // The means do not change.
+  EXPECT_EQ (lattice.to_reference.mean, sampled.to_reference.mean);
+  EXPECT_EQ (lattice.two_sided.p99, sampled.two_sided.p99);
+}
+
 TEST (CompareToReference, HalfOfTheSurfaceMissing)
 {
   // The mesh covers x in [0, 0.5] of the reference square: nothing strays, but the
