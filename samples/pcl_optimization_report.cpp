@@ -81,6 +81,7 @@ usage (const char* program)
       "  -descent-min-dihedral DEG  EdgeSwapOptions::descent_min_dihedral_deg\n"
       "  -noisy-median DEG          EdgeSwapOptions::noisy_median_dihedral_deg\n"
       "  -angles 0|1      EdgeSwapOptions::improve_angles\n"
+      "  -longest 0|1     EdgeSwapOptions::descent_keeps_longest_edge\n"
       "  -intersections 0|1  EdgeSwapOptions::remove_self_intersections\n",
       program, default_clouds[0], default_clouds[1], default_clouds[2], default_clouds[3],
       default_clouds[4]);
@@ -227,6 +228,8 @@ describe (const meshless::EdgeSwapOptions& o)
          ", fold bound " + format ("%g deg", o.max_fold_angle_deg) +
          ", remove intersections " + (o.remove_self_intersections ? "on" : "off") +
          ", angle pass " + (o.improve_angles ? "on" : "off") +
+         ", new edges no longer than their quad's longest " +
+         (o.descent_keeps_longest_edge ? "on" : "off") +
          (o.max_swaps ? ", at most " + std::to_string (o.max_swaps) + " swaps" : "");
 }
 
@@ -460,6 +463,8 @@ run (int argc, char** argv)
         options.descent_min_dihedral_deg = std::stod (value ());
       else if (arg == "-noisy-median")
         options.noisy_median_dihedral_deg = std::stod (value ());
+      else if (arg == "-longest")
+        options.descent_keeps_longest_edge = value () == "1";
       else if (arg == "-angles")
         options.improve_angles = value () == "1";
       else if (arg == "-intersections")

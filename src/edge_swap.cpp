@@ -1089,7 +1089,21 @@ private:
     change = perEdge () ? edgeCostChange (q, local) : costChange (q, local);
     // Changes within rounding of the local cost do not count as decreases: this keeps
     // the descent finite. Most edges stop here, before the dearer feasibility test.
-    return change < -1e-12 * local && feasible (q);
+    return change < -1e-12 * local && feasible (q) && keepsLongestEdge (q);
+  }
+
+  /** Whether the new diagonal c-d is no longer than the longest of the quad's four
+    * sides and its old diagonal (EdgeSwapOptions::descent_keeps_longest_edge). */
+  bool
+  keepsLongestEdge (const Quad& q) const
+  {
+    if (!options_.descent_keeps_longest_edge)
+      return true;
+    const Vec3 &a = p_[q.a], &b = p_[q.b], &c = p_[q.c], &d = p_[q.d];
+    const double longest =
+        std::max ({(a - b).squaredNorm (), (a - c).squaredNorm (), (b - c).squaredNorm (),
+                   (a - d).squaredNorm (), (b - d).squaredNorm ()});
+    return (c - d).squaredNorm () <= longest;
   }
 
   void

@@ -253,6 +253,49 @@ TEST (EdgeSwap, RidgeEdgesAppearInHeightField)
   }
 }
 
+TEST (EdgeSwap, DescentMakesNoEdgeLongerThanItsQuad)
+{
+  // A gentle ridge grid stretched along the ridge (x = y) by 1.5: the ridge edges
+  // the curvature descent makes are now the longest edge of their quads (2.12
+  // against sides of 1.37 and the old diagonal 1.41).
+  const int n = 7;
+  Points3 points;
+  Triangles input;
+  ridgeGrid (n, 0.5, points, input);
+  for (Eigen::Vector3d& p : points) {
+    const double along = 0.75 * (p.x () + p.y ()), across = 0.5 * (p.x () - p.y ());
+    p = Eigen::Vector3d (along + across, along - across, p.z ());
+  }
+  const auto id = [n] (int i, int j) { return static_cast<pcl::index_t> (j * n + i); };
+  const auto longest = [&] (const Triangles& triangles) {
+    double length = 0.0;
+    for (const Triangle& t : triangles)
+      for (int k = 0; k < 3; ++k)
+        length = std::max (length, (points[t[k]] - points[t[(k + 1) % 3]]).norm ());
+    return length;
+  };
+  for (const bool keep : {false, true}) {
+    SCOPED_TRACE (keep ? "rule on" : "rule off");
+    Triangles work = input;
+    EdgeSwapOptions options;
+    options.improve_angles = false;
+    options.descent_keeps_longest_edge = keep;
+    const EdgeSwapResult result = optimizeBySwaps (points, work, options);
+    ASSERT_TRUE (result.success) << result.message;
+    expectSameTopology (points, input, work);
+    for (int i = 0; i + 1 < n; ++i)
+      EXPECT_EQ (hasEdge (work, id (i, i), id (i + 1, i + 1)), !keep) << "ridge edge " << i;
+    if (keep) {
+      EXPECT_EQ (result.descent_swaps, 0u);
+      EXPECT_EQ (longest (work), longest (input));
+    }
+    else {
+      EXPECT_EQ (result.descent_swaps, static_cast<std::size_t> (n - 1));
+      EXPECT_GT (longest (work), longest (input));
+    }
+  }
+}
+
 TEST (EdgeSwap, AnglePassTakesShortDiagonalsAndKeepsTheRidge)
 {
   // The same ridge: on each tilted half the grid cells are rhombi with angles of 60
