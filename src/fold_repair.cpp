@@ -55,7 +55,8 @@ public:
                 double cell,
                 const std::vector<pcl::index_t>& seeds,
                 int reach)
-  : points_ (points), triangles_ (triangles), inverse_cell_ (1.0 / cell)
+  : points_ (points), triangles_ (triangles), inverse_cell_ (1.0 / cell),
+    mark_ (triangles.size (), 0)
   {
     for (const pcl::index_t v : seeds) {
       const Vec3 r = Vec3::Constant (reach * cell);
@@ -83,6 +84,12 @@ public:
   candidates (const Triangle& tri, std::vector<std::int32_t>& out) const
   {
     out.clear ();
+    // Each slot once: a stamp per slot instead of sorting (the sort took a quarter
+    // of the queries' time).
+    if (++stamp_ == 0) {
+      std::fill (mark_.begin (), mark_.end (), 0);
+      stamp_ = 1;
+    }
     Vec3 lo, hi;
     box (tri, lo, hi);
     bool inside = true;
@@ -93,14 +100,15 @@ public:
         return;
       }
       for (const std::int32_t t : it->second) {
+        if (mark_[t] == stamp_)
+          continue;
+        mark_[t] = stamp_;
         Vec3 tlo, thi;
         box (triangles_[t], tlo, thi);
         if ((tlo.array () <= hi.array ()).all () && (lo.array () <= thi.array ()).all ())
           out.push_back (t);
       }
     });
-    std::sort (out.begin (), out.end ());
-    out.erase (std::unique (out.begin (), out.end ()), out.end ());
     return inside;
   }
 
@@ -141,6 +149,8 @@ private:
   const Triangles& triangles_;
   double inverse_cell_;
   std::unordered_map<std::uint64_t, std::vector<std::int32_t>> cells_;
+  mutable std::vector<std::uint32_t> mark_;
+  mutable std::uint32_t stamp_ = 0;
 };
 
 class FoldRepair

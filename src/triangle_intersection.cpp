@@ -425,6 +425,24 @@ trianglesIntersect (const Points3& vertices, const Triangle& s, const Triangle& 
   };
   if (!distinct (s) || !distinct (t))
     return false;
+  // Most pairs a broad phase hands over lie apart: the vertices of one that the
+  // other does not share all certainly on one side of the other's plane. Then they
+  // meet at most in what they share, which does not count; the exact tests below
+  // (a projection axis each, then the overlap) are for the rest.
+  const auto apart = [&vertices] (const Triangle& a, const Triangle& b) {
+    int side = 0;
+    for (const pcl::index_t v : b) {
+      if (v == a[0] || v == a[1] || v == a[2])
+        continue;
+      const int o = orient3dIfCertain (vertices[a[0]], vertices[a[1]], vertices[a[2]], vertices[v]);
+      if (o == 0 || (side != 0 && o != side))
+        return false;
+      side = o;
+    }
+    return side != 0;
+  };
+  if (apart (s, t) || apart (t, s))
+    return false;
   const int axis_s = projectionAxis (vertices, s);
   const int axis_t = projectionAxis (vertices, t);
   if (axis_s < 0 || axis_t < 0)
