@@ -340,3 +340,59 @@ TEST (SphericalMeshlessReconstruction, OtherBaseMeshesAreTriedWhilePairsRemain)
   EXPECT_NE (reconstruction.getReport ().message.find ("setBaseRetries"), std::string::npos)
       << reconstruction.getReport ().message;
 }
+
+TEST (SphericalMeshlessReconstruction, RawFoldsAreRepairedBeforeTheSwaps)
+{
+  // The 1:1:6 ellipsoid's raw triangulation folds near its tips (its patches
+  // squeeze there). With the optimization on, those folds are re-meshed before the
+  // swaps and reported; the count is that of the raw triangulation itself.
+  auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Ellipsoid, 3000);
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  std::vector<std::string> stages;
+  reconstruction.setProgressCallback ([&] (const pcl::meshless::ProgressReport& r) {
+    stages.push_back (r.stage);
+    return true;
+  });
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  const auto repaired = reconstruction.getReport ();
+  ASSERT_TRUE (repaired.success) << repaired.message;
+  expectClosedGenusZero (polygons, range (cloud->size ()));
+  EXPECT_EQ (repaired.mesh.self_intersecting_pairs, 0u);
+  if (repaired.raw_fold_repair.pairs_before == 0)
+    GTEST_SKIP () << "the raw triangulation does not fold any more: nothing to repair first";
+  EXPECT_LT (repaired.raw_fold_repair.pairs_after, repaired.raw_fold_repair.pairs_before);
+  EXPECT_GT (repaired.raw_fold_repair.regions_remeshed, 0u);
+  const auto raw_repair_stage = std::find (stages.begin (), stages.end (), "repair raw");
+  ASSERT_NE (raw_repair_stage, stages.end ());
+  EXPECT_LT (raw_repair_stage - stages.begin (),
+             std::find (stages.begin (), stages.end (), "optimize") - stages.begin ());
+
+  // The raw triangulation alone (no optimization, no intersection check: no repair,
+  // no retry) has exactly the pairs the repair started from.
+  reconstruction.setOptimize (false);
+  reconstruction.setCheckSelfIntersections (false);
+  std::vector<pcl::Vertices> raw;
+  reconstruction.reconstruct (raw);
+  ASSERT_TRUE (reconstruction.getReport ().success) << reconstruction.getReport ().message;
+  EXPECT_EQ (reconstruction.getReport ().raw_fold_repair.pairs_before, 0u);
+  pcl::meshless::Points3 points;
+  for (const auto& p : *cloud)
+    points.emplace_back (p.x, p.y, p.z);
+  pcl::meshless::Triangles triangles;
+  for (const auto& polygon : raw)
+    triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
+                          static_cast<pcl::index_t> (polygon.vertices[1]),
+                          static_cast<pcl::index_t> (polygon.vertices[2])});
+  EXPECT_EQ (pcl::meshless::checkMesh (points, triangles).self_intersecting_pairs,
+             repaired.raw_fold_repair.pairs_before);
+
+  // Without the optimization, the same folds are repaired after the check instead.
+  reconstruction.setCheckSelfIntersections (true);
+  reconstruction.reconstruct (raw);
+  const auto& plain = reconstruction.getReport ();
+  ASSERT_TRUE (plain.success) << plain.message;
+  EXPECT_EQ (plain.raw_fold_repair.pairs_before, 0u);
+  EXPECT_EQ (plain.fold_repair.pairs_before, repaired.raw_fold_repair.pairs_before);
+}
