@@ -235,8 +235,10 @@ public:
 
   /** \brief Optimize the raw triangulation by edge swaps (Dyn, Hormann, Kim and
     * Levin 2001): lower discrete curvature, fewer folds and intersections, better
-    * angles. Swaps move no vertex, so every topological promise is kept.
-    * Default true. */
+    * angles. Swaps move no vertex, so every topological promise is kept. In sphere
+    * topology with the intersection check on, the raw triangulation's folds are
+    * re-meshed first (SphericalMeshlessReport::raw_fold_repair), the same repair a run
+    * without optimization makes after its check. Default true. */
   inline void
   setOptimize (bool optimize)
   {
@@ -284,7 +286,8 @@ public:
   }
 
   /** \brief Whether the output check counts self-intersecting triangle pairs
-    * (default true; costs about as much as one stage). */
+    * (default true; costs about as much as one stage). Off, nothing is counted, so
+    * no fold is repaired (before or after the swaps) and no retry is made. */
   inline void
   setCheckSelfIntersections (bool check)
   {
