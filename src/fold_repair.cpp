@@ -840,9 +840,12 @@ repairFoldsByReinsertion (const Points3& points,
     // interleaved); and again, as each opens folds for the other (bunny_igl: 34 ->
     // 23 pairs after one pass, 20 after two).
     for (int pass = 0; pass < options.max_passes && result.pairs_after > 0; ++pass) {
+      const std::size_t at_start = result.pairs_after;
       rounds (pass == 0 ? candidates : stillIntersecting (), disc, result.regions_remeshed);
       if (options.swaps && result.pairs_after > 0)
         rounds (stillIntersecting (), swaps, result.swaps);
+      if (result.pairs_after == at_start)
+        break; // the next pass would start from the same triangles
     }
   }
   catch (const std::bad_alloc&) {

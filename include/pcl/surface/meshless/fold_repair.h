@@ -49,8 +49,10 @@ struct FoldRepairOptions
     * bunny_igl: 2 -> 20 pairs in 1 s, 3 -> 19 in 6 s, 4 -> 11 in 77 s). Default 2. */
   int max_swaps_in_a_row = 2;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
-    * triangles still intersecting). Default 2. */
-  int max_passes = 2;
+    * triangles still intersecting); they stop at the first pass that lowers nothing.
+    * Default 4 (measured: one 1:1:20 ellipsoid sample 18 -> 9 pairs against 2 passes,
+    * 8 passes no further; the shared clouds' meshes unchanged). */
+  int max_passes = 4;
   /** \brief Larger discs are not tried. Default 300 triangles. */
   std::size_t max_region_triangles = 300;
   /** \brief Optional: the cloud's neighbourhoods (e.g. the kNN graph) and oriented
