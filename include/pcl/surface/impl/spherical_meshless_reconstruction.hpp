@@ -351,18 +351,33 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                         std::to_string (repair.swaps) + " swaps"});
   };
 
+  // What optimizeAndCheck did to one triangulation; the report takes it over when
+  // that triangulation becomes the result (adopt).
+  struct Checked
+  {
+    meshless::EdgeSwapResult optimization;
+    meshless::FoldRepairResult raw_repair, repair;
+    meshless::MeshReport mesh;
+  };
+  auto adopt = [&] (Checked&& checked) {
+    report_.optimization = std::move (checked.optimization);
+    report_.raw_fold_repair = std::move (checked.raw_repair);
+    report_.fold_repair = std::move (checked.repair);
+    report_.mesh = std::move (checked.mesh);
+  };
+
   // Optimization and the class's own check of its result before it reports
   // success; an empty string, or what is wrong.
   auto optimizeAndCheck = [&] (meshless::Triangles& mesh_triangles,
                                const std::vector<Eigen::Vector3f>& mesh_normals,
-                               meshless::EdgeSwapResult& optimization,
-                               meshless::FoldRepairResult& raw_repair,
-                               meshless::FoldRepairResult& repair,
-                               meshless::MeshReport& mesh) -> std::string {
+                               Checked& checked) -> std::string {
+    meshless::EdgeSwapResult& optimization = checked.optimization;
+    meshless::FoldRepairResult& raw_repair = checked.raw_repair;
+    meshless::FoldRepairResult& repair = checked.repair;
+    meshless::MeshReport& mesh = checked.mesh;
     meshless::MeshCheckOptions check;
     check.check_self_intersections = check_self_intersections_;
     check.max_listed_intersections = 65536; // for distantIntersectingPairs and the repair
-    raw_repair = {};
     if (optimize_ && !report_.convex_hull) {
       // The folds of the raw triangulation first: re-meshed in discs they come out
       // as the surface runs, while the swaps' own removal of intersections can leave
@@ -424,9 +439,9 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
              meshless::describe (mesh);
     return "";
   };
-  const std::string problem =
-      optimizeAndCheck (triangles, normals, report_.optimization, report_.raw_fold_repair,
-                       report_.fold_repair, report_.mesh);
+  Checked first;
+  const std::string problem = optimizeAndCheck (triangles, normals, first);
+  adopt (std::move (first));
   if (!problem.empty ())
     return fail (problem);
 
@@ -462,22 +477,16 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     if (!other.success)
       return -1;
     const int attempt = other.stats.base_attempt;
-    meshless::EdgeSwapResult optimization;
-    meshless::FoldRepairResult raw_repair, repair;
-    meshless::MeshReport mesh;
+    Checked checked;
     double against = 0.0;
     std::size_t distant = 0;
-    if (optimizeAndCheck (other.triangles, other.normals, optimization, raw_repair, repair, mesh)
-             .empty () &&
-        mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs &&
-        !turnsBackWith (other.triangles, other.normals, mesh, against, distant)) {
+    if (optimizeAndCheck (other.triangles, other.normals, checked).empty () &&
+        checked.mesh.self_intersecting_pairs < report_.mesh.self_intersecting_pairs &&
+        !turnsBackWith (other.triangles, other.normals, checked.mesh, against, distant)) {
       triangles = std::move (other.triangles);
       normals = std::move (other.normals);
       report_.stats = other.stats;
-      report_.optimization = optimization;
-      report_.raw_fold_repair = raw_repair;
-      report_.fold_repair = repair;
-      report_.mesh = mesh;
+      adopt (std::move (checked));
       kept = true;
     }
     return attempt;
@@ -528,18 +537,12 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   if (sphere && !report_.convex_hull && report_.mesh.self_intersecting_pairs > 0 &&
       base_faces_.empty () && n <= max_hull_points) {
     meshless::Triangles hull = meshless::convexHullThroughAll (points, max_hull_points);
-    meshless::EdgeSwapResult optimization;
-    meshless::FoldRepairResult raw_repair, repair;
-    meshless::MeshReport mesh;
+    Checked checked;
     report_.convex_hull = !hull.empty ();
-    if (report_.convex_hull &&
-        optimizeAndCheck (hull, normals, optimization, raw_repair, repair, mesh).empty () &&
-        mesh.self_intersecting_pairs == 0) {
+    if (report_.convex_hull && optimizeAndCheck (hull, normals, checked).empty () &&
+        checked.mesh.self_intersecting_pairs == 0) {
       triangles = std::move (hull);
-      report_.optimization = optimization;
-      report_.raw_fold_repair = raw_repair;
-      report_.fold_repair = repair;
-      report_.mesh = mesh;
+      adopt (std::move (checked));
       record ({"hull", 1.0, 0.0, std::to_string (triangles.size ()) + " triangles"});
     }
     else
