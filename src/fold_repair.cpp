@@ -60,7 +60,10 @@ public:
   {
     for (const pcl::index_t v : seeds) {
       const Vec3 r = Vec3::Constant (reach * cell);
-      forBox (points[v] - r, points[v] + r, [&] (std::uint64_t key) { cells_[key]; });
+      forRange (rangeOf (points[v] - r, points[v] + r), [&] (const Cell& c) {
+        if (cells_.emplace (keyOf (c), std::vector<std::int32_t> ()).second)
+          kept_.push_back (c);
+      });
     }
     for (std::size_t t = 0; t < triangles.size (); ++t)
       insert (static_cast<std::int32_t> (t));
@@ -93,7 +96,7 @@ public:
     Vec3 lo, hi;
     box (tri, lo, hi);
     bool inside = true;
-    forBox (lo, hi, [&] (std::uint64_t key) {
+    const bool covered = forBox (lo, hi, [&] (std::uint64_t key) {
       const auto it = cells_.find (key);
       if (it == cells_.end ()) {
         inside = false;
@@ -109,7 +112,7 @@ public:
           out.push_back (t);
       }
     });
-    return inside;
+    return inside && covered;
   }
 
 private:
@@ -129,26 +132,72 @@ private:
     forBox (lo, hi, visit);
   }
 
+  using Cell = std::array<std::int64_t, 3>;
+
+  /** Cell coordinates are clamped to [-limit, limit - 1]: the conversion is defined,
+    * the loops end and keys stay unique; the mapping is monotone, so boxes that
+    * overlap still share a cell. */
+  static constexpr std::int64_t limit = std::int64_t{1} << 20;
+
+  std::pair<Cell, Cell>
+  rangeOf (const Vec3& lo, const Vec3& hi) const
+  {
+    constexpr auto bound = static_cast<double> (limit);
+    std::pair<Cell, Cell> range;
+    for (int k = 0; k < 3; ++k) {
+      range.first[k] = static_cast<std::int64_t> (
+          std::clamp (std::floor (lo[k] * inverse_cell_), -bound, bound - 1.0));
+      range.second[k] = static_cast<std::int64_t> (
+          std::clamp (std::floor (hi[k] * inverse_cell_), -bound, bound - 1.0));
+    }
+    return range;
+  }
+
+  static std::uint64_t
+  keyOf (const Cell& c)
+  {
+    const auto bits = [] (std::int64_t x) { return static_cast<std::uint64_t> (x) & 0x1fffff; };
+    return (bits (c[0]) << 42) | (bits (c[1]) << 21) | bits (c[2]);
+  }
+
   template <typename Visit>
-  void
+  static void
+  forRange (const std::pair<Cell, Cell>& range, Visit visit)
+  {
+    for (std::int64_t x = range.first[0]; x <= range.second[0]; ++x)
+      for (std::int64_t y = range.first[1]; y <= range.second[1]; ++y)
+        for (std::int64_t z = range.first[2]; z <= range.second[2]; ++z)
+          visit (Cell{x, y, z});
+  }
+
+  /** Calls visit (key) for the cells the box covers; false if some of them are
+    * certainly not kept. A box over more cells than are kept (a far outlier's
+    * triangle, a long sliver) is answered from the kept cells inside it: walking
+    * all its cells took minutes on a fuzzer's cloud. */
+  template <typename Visit>
+  bool
   forBox (const Vec3& lo, const Vec3& hi, Visit visit) const
   {
-    const Eigen::Array3d a = (lo * inverse_cell_).array ().floor ();
-    const Eigen::Array3d b = (hi * inverse_cell_).array ().floor ();
-    for (double x = a.x (); x <= b.x (); ++x)
-      for (double y = a.y (); y <= b.y (); ++y)
-        for (double z = a.z (); z <= b.z (); ++z) {
-          const auto ix = static_cast<std::uint64_t> (static_cast<std::int64_t> (x) & 0x1fffff);
-          const auto iy = static_cast<std::uint64_t> (static_cast<std::int64_t> (y) & 0x1fffff);
-          const auto iz = static_cast<std::uint64_t> (static_cast<std::int64_t> (z) & 0x1fffff);
-          visit ((ix << 42) | (iy << 21) | iz);
-        }
+    const auto range = rangeOf (lo, hi);
+    double count = 1.0;
+    for (int k = 0; k < 3; ++k)
+      count *= static_cast<double> (range.second[k] - range.first[k] + 1);
+    if (count > static_cast<double> (kept_.size ())) {
+      for (const Cell& c : kept_)
+        if (range.first[0] <= c[0] && c[0] <= range.second[0] && range.first[1] <= c[1] &&
+            c[1] <= range.second[1] && range.first[2] <= c[2] && c[2] <= range.second[2])
+          visit (keyOf (c));
+      return false;
+    }
+    forRange (range, [&] (const Cell& c) { visit (keyOf (c)); });
+    return true;
   }
 
   const Points3& points_;
   const Triangles& triangles_;
   double inverse_cell_;
   std::unordered_map<std::uint64_t, std::vector<std::int32_t>> cells_;
+  std::vector<Cell> kept_; // the coordinates of the cells in cells_
   mutable std::vector<std::uint32_t> mark_;
   mutable std::uint32_t stamp_ = 0;
 };
