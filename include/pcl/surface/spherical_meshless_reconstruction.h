@@ -11,6 +11,7 @@
 #include <pcl/surface/meshless/edge_swap.h>
 #include <pcl/surface/meshless/fold_repair.h>
 #include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/spatial_order.h>
 #include <pcl/surface/meshless/sphere_pipeline.h>
 #include <pcl/surface/meshless/weights.h>
 #include <pcl/surface/reconstruction.h>

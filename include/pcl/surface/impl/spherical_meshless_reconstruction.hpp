@@ -156,7 +156,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
       keep[order[j]] = 0;
       ++report_.num_duplicates;
     }
-  pcl::Indices cloud_indices; // pipeline point i is input point cloud_indices[i], ascending
+  pcl::Indices cloud_indices; // pipeline point i is input point cloud_indices[i]
   cloud_indices.reserve (finite.size ());
   for (std::size_t k = 0; k < finite.size (); ++k)
     if (keep[k])
@@ -177,6 +177,21 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   meshless::Points3 points (n);
   for (std::size_t i = 0; i < n; ++i)
     points[i] = (*input_)[cloud_indices[i]].getVector3fMap ().template cast<double> () - centroid;
+  // The pipeline numbers the points along a Z-order curve, so that neighbours in
+  // space are mostly neighbours in memory (every stage walks neighbourhoods; see
+  // spatial_order.h for what it saves on a million points). Output triangles refer
+  // to the input's indices all the same.
+  {
+    const std::vector<pcl::index_t> order = meshless::mortonOrder (points);
+    pcl::Indices ordered_indices (n);
+    meshless::Points3 ordered_points (n);
+    for (std::size_t k = 0; k < n; ++k) {
+      ordered_indices[k] = cloud_indices[order[k]];
+      ordered_points[k] = points[order[k]];
+    }
+    cloud_indices.swap (ordered_indices);
+    points.swap (ordered_points);
+  }
 
   // Float coordinates far from the origin against the cloud's size (a small object
   // in UTM coordinates) are quantized before the class sees them: at 5e6 floats
@@ -256,12 +271,18 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     options.progress = record;
     if (!base_faces_.empty ()) {
       // The user's base mesh refers to cloud indices; the pipeline to its points.
+      std::vector<std::pair<pcl::index_t, pcl::index_t>> pipeline_of; // (cloud, pipeline)
+      pipeline_of.reserve (n);
+      for (std::size_t i = 0; i < n; ++i)
+        pipeline_of.emplace_back (cloud_indices[i], static_cast<pcl::index_t> (i));
+      std::sort (pipeline_of.begin (), pipeline_of.end ());
       for (const auto v : base_vertices_) {
-        const auto it = std::lower_bound (cloud_indices.begin (), cloud_indices.end (), v);
-        if (it == cloud_indices.end () || *it != v)
+        const auto it = std::lower_bound (pipeline_of.begin (), pipeline_of.end (),
+                                          std::make_pair (static_cast<pcl::index_t> (v),
+                                                          pcl::index_t {-1}));
+        if (it == pipeline_of.end () || it->first != v)
           return fail ("a base mesh vertex is not a finite, distinct input point (setBaseMesh)");
-        options.user_base_mesh.vertices.push_back (
-            static_cast<pcl::index_t> (it - cloud_indices.begin ()));
+        options.user_base_mesh.vertices.push_back (it->second);
       }
       for (const auto& face : base_faces_) {
         if (face.vertices.size () != 3)
@@ -495,10 +516,14 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // Where the surface is thinner than the point spacing, kNN edges join its two
   // sides and the patches fold there. If the result intersects itself, try again
   // with those edges dropped (see meshless::buildSurfaceGraphs) and keep the result
-  // with fewer intersecting pairs; a failed second attempt changes nothing, and a
-  // cloud without such edges (counted by the first run) makes none.
-  if (sphere && report_.mesh.self_intersecting_pairs > 0 && report_.stats.thin_part_edges > 0 &&
-      !turnsBack ()) {
+  // with fewer intersecting pairs, if it does not turn back; a failed second attempt
+  // changes nothing, and a cloud without such edges (counted by the first run) makes
+  // none. Also when the first result turns back: folds across thin parts can turn
+  // a genus-0 cloud's first mesh back over 8% of its area (measured: cow_igl's
+  // hooves and horns, depending on the order of the points), and a cloud with a
+  // handle or a boundary gets a second result that turns back too (rocker_arm,
+  // fertility, face_igl: rejected all the same, face_igl 0.3 s later).
+  if (sphere && report_.mesh.self_intersecting_pairs > 0 && report_.stats.thin_part_edges > 0) {
     meshless::SpherePipelineOptions thin = sphere_options;
     thin.separate_thin_sheets = true;
     bool kept = false;
