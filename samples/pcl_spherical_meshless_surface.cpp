@@ -53,6 +53,23 @@ secondsSince (Clock::time_point start)
   return std::chrono::duration<double> (Clock::now () - start).count ();
 }
 
+/** The process's peak resident set so far in MB (Linux's VmHWM), or -1 where
+  * /proc does not say. Printed after each stage: where the peak rises. */
+long
+peakResidentMegabytes ()
+{
+  std::FILE* status = std::fopen ("/proc/self/status", "r");
+  if (!status)
+    return -1;
+  char line[256];
+  long kilobytes = -1;
+  while (std::fgets (line, sizeof line, status))
+    if (std::sscanf (line, "VmHWM: %ld kB", &kilobytes) == 1)
+      break;
+  std::fclose (status);
+  return kilobytes < 0 ? -1 : kilobytes / 1024;
+}
+
 int
 fail (const std::string& reason)
 {
@@ -185,8 +202,10 @@ main (int argc, char** argv)
     return fail ("the input cloud is empty");
 
   reconstruction.setProgressCallback ([] (const pcl::meshless::ProgressReport& stage) {
-    std::printf ("  %-15s %7.3f s  %3.0f%%  %s\n", stage.stage.c_str (), stage.seconds,
-                 100.0 * stage.fraction, stage.detail.c_str ());
+    const long peak = peakResidentMegabytes ();
+    std::printf ("  %-15s %7.3f s  %3.0f%%  %6s  %s\n", stage.stage.c_str (), stage.seconds,
+                 100.0 * stage.fraction,
+                 peak < 0 ? "" : (std::to_string (peak) + " MB").c_str (), stage.detail.c_str ());
     std::fflush (stdout);
     return true;
   });
