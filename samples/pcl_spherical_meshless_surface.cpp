@@ -40,7 +40,8 @@ usage (const char* program)
       "  -weights W           uniform|distance|shape|meanvalue (default meanvalue)\n"
       "  -topology T          sphere (closed, default) or disc (open surface)\n"
       "  -optimize 0|1        edge-swap optimization (default 1)\n"
-      "  -base B              tetrahedron|octahedron|icosahedron (default tetrahedron)\n"
+      "  -base B              auto|tetrahedron|octahedron|icosahedron (default auto:\n"
+      "                       tetrahedron up to 500000 points, octahedron above)\n"
       "  -retries N           further base meshes tried while the result intersects\n"
       "                       itself (default 2; 0 for speed)\n"
       "  -threads N           worker threads (default: all cores)\n",
@@ -143,14 +144,16 @@ main (int argc, char** argv)
       }
       else if (arg == "-base") {
         const std::string b = value ();
-        if (b == "tetrahedron")
+        if (b == "auto")
+          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::BySize);
+        else if (b == "tetrahedron")
           reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Tetrahedron);
         else if (b == "octahedron")
           reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Octahedron);
         else if (b == "icosahedron")
           reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Icosahedron);
         else
-          return fail ("unknown base '" + b + "' (tetrahedron|octahedron|icosahedron)");
+          return fail ("unknown base '" + b + "' (auto|tetrahedron|octahedron|icosahedron)");
       }
       else if (arg.size () > 1 && arg[0] == '-')
         return fail ("unknown option " + arg + " (see -h)");

@@ -42,6 +42,7 @@ regularPolyhedron (BasePolyhedron kind)
 {
   Polyhedron p;
   switch (kind) {
+  case BasePolyhedron::BySize: // resolved by polyhedronBaseMesh before
   case BasePolyhedron::Tetrahedron:
     p.directions = {{1, 1, 1}, {1, -1, -1}, {-1, 1, -1}, {-1, -1, 1}};
     p.faces = {{0, 1, 2}, {0, 1, 3}, {0, 2, 3}, {1, 2, 3}};
@@ -77,6 +78,15 @@ regularPolyhedron (BasePolyhedron kind)
 
 } // namespace
 
+BasePolyhedron
+polyhedronForSize (BasePolyhedron polyhedron, std::size_t n)
+{
+  if (polyhedron != BasePolyhedron::BySize)
+    return polyhedron;
+  return n > 4 * points_per_base_face_by_size ? BasePolyhedron::Octahedron
+                                              : BasePolyhedron::Tetrahedron;
+}
+
 BaseMesh
 polyhedronBaseMesh (const Points3& points,
                     BasePolyhedron polyhedron,
@@ -87,7 +97,7 @@ polyhedronBaseMesh (const Points3& points,
   BaseMesh mesh;
   if (points.empty ())
     return mesh;
-  const Polyhedron p = regularPolyhedron (polyhedron);
+  const Polyhedron p = regularPolyhedron (polyhedronForSize (polyhedron, points.size ()));
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
   for (const auto& v : points)
     centroid += v;

@@ -69,6 +69,7 @@ nextPolyhedron (BasePolyhedron polyhedron)
   case BasePolyhedron::Octahedron:
     return BasePolyhedron::Icosahedron;
   case BasePolyhedron::Icosahedron:
+  case BasePolyhedron::BySize: // resolved before
     break;
   }
   return BasePolyhedron::Tetrahedron;
@@ -158,9 +159,10 @@ triangulateSphere (const Points3& points,
     stats.base_attempt = attempt;
     // Every second attempt tries the next polyhedron: other corners, and patches
     // of another size, fail for other reasons than a mere rotation.
+    const BasePolyhedron first_polyhedron = polyhedronForSize (options.polyhedron, n);
     const BasePolyhedron polyhedron =
-        options.alternate_polyhedra && attempt % 2 == 1 ? nextPolyhedron (options.polyhedron)
-                                                        : options.polyhedron;
+        options.alternate_polyhedra && attempt % 2 == 1 ? nextPolyhedron (first_polyhedron)
+                                                        : first_polyhedron;
     const int rotation = options.alternate_polyhedra ? attempt / 2 : attempt;
     const BaseMesh base = user_base ? options.user_base_mesh
                                     : polyhedronBaseMesh (points, polyhedron,

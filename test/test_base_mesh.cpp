@@ -34,6 +34,24 @@ TEST (BaseMesh, PolyhedraOnASphereAreValidOutwardSpheres)
   }
 }
 
+TEST (BaseMesh, BySizeIsTheTetrahedronUpToItsLimitAndTheOctahedronAbove)
+{
+  const std::size_t limit = 4 * points_per_base_face_by_size;
+  EXPECT_EQ (polyhedronForSize (BasePolyhedron::BySize, 4), BasePolyhedron::Tetrahedron);
+  EXPECT_EQ (polyhedronForSize (BasePolyhedron::BySize, limit), BasePolyhedron::Tetrahedron);
+  EXPECT_EQ (polyhedronForSize (BasePolyhedron::BySize, limit + 1), BasePolyhedron::Octahedron);
+  // A polyhedron the user chose stays whatever the size.
+  for (BasePolyhedron kind :
+       {BasePolyhedron::Tetrahedron, BasePolyhedron::Octahedron, BasePolyhedron::Icosahedron}) {
+    EXPECT_EQ (polyhedronForSize (kind, 10), kind);
+    EXPECT_EQ (polyhedronForSize (kind, 10 * limit), kind);
+  }
+  const Points3 points = sampleShape (SyntheticShape::Sphere, {2000, 1, 0.0});
+  const BaseMesh mesh = polyhedronBaseMesh (points, BasePolyhedron::BySize);
+  EXPECT_EQ (mesh.faces.size (), 4u);
+  EXPECT_EQ (validateBaseMesh (mesh, points.size ()), "");
+}
+
 TEST (BaseMesh, TetrahedronCornersMaximiseTheirDirections)
 {
   const Points3 points = sampleShape (SyntheticShape::Ellipsoid, {3000, 2, 0.0});

@@ -208,8 +208,10 @@ public:
   }
 
   /** \brief The regular polyhedron whose directions pick the base mesh D.
-    * Default: BasePolyhedron::Tetrahedron (the paper's). More faces give shorter
-    * paths and smaller, less distorted patches. */
+    * Default: BasePolyhedron::BySize, the tetrahedron (the paper's) up to 500,000
+    * points and the octahedron above, whose smaller patches need less memory (see
+    * meshless::polyhedronForSize). More faces give shorter paths and smaller, less
+    * distorted patches, and more corners that may land in thin parts. */
   inline void
   setBasePolyhedron (BasePolyhedron polyhedron)
   {
@@ -347,7 +349,7 @@ private:
   int k_ = 12;
   double radius_ = 0.0;
   WeightType weights_ = WeightType::MeanValue;
-  BasePolyhedron polyhedron_ = BasePolyhedron::Tetrahedron;
+  BasePolyhedron polyhedron_ = BasePolyhedron::BySize;
   pcl::Indices base_vertices_;
   std::vector<pcl::Vertices> base_faces_;
   ProgressCallback progress_;

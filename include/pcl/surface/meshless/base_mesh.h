@@ -27,8 +27,29 @@ enum class BasePolyhedron
 {
   Tetrahedron, ///< 4 faces: the paper's choice (§4)
   Octahedron,  ///< 8 faces
-  Icosahedron  ///< 20 faces: shorter paths, smaller and less distorted patches
+  Icosahedron, ///< 20 faces: shorter paths, smaller and less distorted patches
+  /** The tetrahedron up to points_per_base_face_by_size * 4 points, the octahedron
+    * above (see polyhedronForSize). */
+  BySize
 };
+
+/** \brief Points per face above which BasePolyhedron::BySize takes more faces. */
+constexpr std::size_t points_per_base_face_by_size = 125000;
+
+/** \brief What BasePolyhedron::BySize means for n points; any other value is
+  * returned as it is.
+  *
+  * The tetrahedron's four patches make four sparse systems whose LU factors grow
+  * faster than the points (fill of a planar graph's elimination) and are solved two
+  * at a time: measured on one million points (Z-ordered), the octahedron's eight
+  * patches took peak memory 1.70 -> 1.36 GB on armadillo_uniform_1m (largest patch
+  * 431,112 -> 270,946 points, 20 s either way) and 1.90 -> 1.05 GB on a bumpy
+  * sphere (17 -> 15 s). Below 500,000 points the tetrahedron, the paper's choice,
+  * stays: its fewer corners meet fewer thin parts (the icosahedron's paths found no
+  * room on armadillo_uniform_1m, the octahedron's on the raw scans' first layouts).
+  * Not the icosahedron: its twelve corners include limb tips on shapes with limbs. */
+BasePolyhedron
+polyhedronForSize (BasePolyhedron polyhedron, std::size_t n);
 
 /** \brief Which cloud point becomes the vertex of D for a direction w. */
 enum class CornerPlacement
