@@ -231,7 +231,7 @@ run (int argc, char** argv)
   std::printf ("input: %s, %zu finite points\n", input.c_str (), cloud->size ());
   std::printf ("greedy projection: %s\n", parameters.describe ().c_str ());
   std::printf ("spherical meshless: default options (k = 12, mean value weights, "
-               "tetrahedron)\n");
+               "base polyhedron by size)\n");
   std::fflush (stdout);
 
   std::vector<MethodResult> results (2);
