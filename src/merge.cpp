@@ -20,6 +20,19 @@ edgeKey (pcl::index_t a, pcl::index_t b)
   return (lo << 32) | hi;
 }
 
+/** Triangles in the order of their smallest vertex (stable: ties keep the patches'
+  * order). The points come in Z-order, so every later pass over the mesh (checks,
+  * the swaps' intersection grid, the repair) then walks memory mostly in order;
+  * measured on armadillo_uniform_1m: swaps 4.4 -> 3.2 s. */
+void
+orderBySmallestVertex (Triangles& triangles)
+{
+  std::stable_sort (triangles.begin (), triangles.end (),
+                    [] (const Triangle& a, const Triangle& b) {
+                      return std::min ({a[0], a[1], a[2]}) < std::min ({b[0], b[1], b[2]});
+                    });
+}
+
 } // namespace
 
 MergedTriangulation
@@ -50,6 +63,7 @@ mergePatches (const std::vector<Triangles>& patches, std::size_t n)
     i = j;
   }
   if (overused.empty ()) {
+    orderBySmallestVertex (tris);
     result.success = true;
     return result;
   }
@@ -127,6 +141,7 @@ mergePatches (const std::vector<Triangles>& patches, std::size_t n)
       return result;
     }
   }
+  orderBySmallestVertex (tris);
   result.success = true;
   return result;
 }

@@ -21,7 +21,9 @@ struct MergedTriangulation : StageStatus
   * their interior away from a shared path may both join the same two path points
   * by a chord, an edge then used by four triangles. Such a chord is flipped inside
   * one of the two patches (which keeps that patch a disc with the same boundary),
-  * provided the new diagonal is not an edge yet.
+  * provided the new diagonal is not an edge yet. The triangles come out in the
+  * order of their smallest vertex index (ties in the patches' order): with the
+  * points in a spatial order, later passes over the mesh walk memory in order.
   * \param[in] patches each patch's triangles (cloud indices), each patch a disc
   * \param[in] n number of points
   * \return fails if a chord cannot be repaired
