@@ -382,7 +382,12 @@ public:
       return Triangles ();
     normal.normalize ();
     const Vec3 u = normal.unitOrthogonal (), w = normal.cross (u);
-    std::unordered_map<pcl::index_t, Vec2> at;
+    // Positions in the plane, by vertex index (every vertex read below is on the
+    // loop or inside): a flat array kept between discs instead of a hash map, which
+    // the loops below queried millions of times on the 1M cloud.
+    std::vector<Vec2>& at = plane_positions_;
+    if (at.size () != points_.size ())
+      at.resize (points_.size ());
     for (const auto* part : {&loop, &interior})
       for (const pcl::index_t x : *part)
         at[x] = Vec2 (points_[x].dot (u), points_[x].dot (w));
@@ -790,6 +795,7 @@ private:
   std::unordered_map<pcl::index_t, std::vector<std::int32_t>> changed_;
   TriangleGrid grid_;
   std::vector<std::int32_t> scratch_;
+  mutable std::vector<Vec2> plane_positions_; // planarDisc's, sized on first use
 };
 
 } // namespace
