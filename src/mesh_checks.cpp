@@ -3,6 +3,7 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/spatial_order.h>
 #include <pcl/surface/meshless/triangle_intersection.h>
 
 #include <Eigen/Geometry>
@@ -71,19 +72,6 @@ merge (const Box& a, const Box& b)
     m.hi[k] = std::max (a.hi[k], b.hi[k]);
   }
   return m;
-}
-
-/** Spreads the low 21 bits of x to every third bit. */
-std::uint64_t
-spreadBits (std::uint64_t x)
-{
-  x &= 0x1fffffull;
-  x = (x | x << 32) & 0x1f00000000ffffull;
-  x = (x | x << 16) & 0x1f0000ff0000ffull;
-  x = (x | x << 8) & 0x100f00f00f00f00full;
-  x = (x | x << 4) & 0x10c30c30c30c30c3ull;
-  x = (x | x << 2) & 0x1249249249249249ull;
-  return x;
 }
 
 /** Binary tree over boxes; the boxes are stored in an order in which near boxes are
@@ -662,16 +650,16 @@ private:
     std::vector<std::pair<std::uint64_t, std::uint32_t>> keyed (order.size ());
     constexpr double cells = (1u << 21) - 1;
     for (std::size_t i = 0; i < order.size (); ++i) {
-      std::uint64_t code = 0;
+      std::uint64_t cell_of[3];
       for (int k = 0; k < 3; ++k) {
         const double extent = static_cast<double> (bounds.hi[k]) - bounds.lo[k];
         const double centre =
             0.5 * (static_cast<double> (boxes[i].lo[k]) + boxes[i].hi[k]);
         double cell = extent > 0.0 ? (centre - bounds.lo[k]) / extent * cells : 0.0;
         cell = cell >= 0.0 ? std::min (cell, cells) : 0.0; // also maps NaN to 0
-        code |= spreadBits (static_cast<std::uint64_t> (cell)) << k;
+        cell_of[k] = static_cast<std::uint64_t> (cell);
       }
-      keyed[i] = {code, static_cast<std::uint32_t> (i)};
+      keyed[i] = {mortonKey (cell_of[0], cell_of[1], cell_of[2]), static_cast<std::uint32_t> (i)};
     }
     std::sort (keyed.begin (), keyed.end ());
     std::vector<std::uint32_t> sorted_order (order.size ());

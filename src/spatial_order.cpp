@@ -30,6 +30,12 @@ spreadBits (std::uint64_t x)
 
 } // namespace
 
+std::uint64_t
+mortonKey (std::uint64_t x, std::uint64_t y, std::uint64_t z)
+{
+  return spreadBits (x) | spreadBits (y) << 1 | spreadBits (z) << 2;
+}
+
 std::vector<pcl::index_t>
 mortonOrder (const Points3& points)
 {
@@ -52,8 +58,7 @@ mortonOrder (const Points3& points)
   std::vector<std::pair<std::uint64_t, pcl::index_t>> keyed (n);
   for (std::size_t i = 0; i < n; ++i) {
     const auto& p = points[i];
-    keyed[i] = {spreadBits (cell (p.x (), lo.x ())) | spreadBits (cell (p.y (), lo.y ())) << 1 |
-                    spreadBits (cell (p.z (), lo.z ())) << 2,
+    keyed[i] = {mortonKey (cell (p.x (), lo.x ()), cell (p.y (), lo.y ()), cell (p.z (), lo.z ())),
                 static_cast<pcl::index_t> (i)};
   }
   std::sort (keyed.begin (), keyed.end ()); // ties by index: input order kept

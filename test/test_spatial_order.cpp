@@ -70,8 +70,24 @@ TEST (SpatialOrder, DegenerateInputsGiveAPermutation)
   const double nan = std::numeric_limits<double>::quiet_NaN ();
   const double inf = std::numeric_limits<double>::infinity ();
   EXPECT_TRUE (isPermutation (mortonOrder ({{0, 0, 0}, {nan, 1, 2}, {inf, 0, 0}, {1, 1, 1}}), 4));
+  // NaN counts as the lowest cell, +inf as the highest: tied with the finite corners.
+  EXPECT_EQ (mortonOrder ({{0, 0, 0}, {1, 1, 1}, {nan, nan, nan}, {inf, inf, inf}}),
+             (std::vector<pcl::index_t> {0, 2, 1, 3}));
   // All points equal (zero extent) and points on one line.
   EXPECT_TRUE (isPermutation (mortonOrder ({{5, 5, 5}, {5, 5, 5}, {5, 5, 5}}), 3));
   const std::vector<pcl::index_t> line = mortonOrder ({{3, 0, 0}, {1, 0, 0}, {2, 0, 0}, {0, 0, 0}});
   EXPECT_EQ (line, (std::vector<pcl::index_t> {3, 1, 2, 0}));
+}
+
+TEST (SpatialOrder, MortonKeysInterleaveTheAxes)
+{
+  EXPECT_EQ (mortonKey (1, 0, 0), 1u);
+  EXPECT_EQ (mortonKey (0, 1, 0), 2u);
+  EXPECT_EQ (mortonKey (0, 0, 1), 4u);
+  EXPECT_EQ (mortonKey (3, 0, 0), 9u);  // x bits at 0 and 3
+  EXPECT_EQ (mortonKey (0, 2, 1), 20u); // y bit at 4, z bit at 2
+  const std::uint64_t top = (std::uint64_t {1} << 21) - 1;
+  EXPECT_EQ (mortonKey (top, top, top), (std::uint64_t {1} << 63) - 1);
+  // Only the low 21 bits count.
+  EXPECT_EQ (mortonKey (top + 2, 0, 0), 1u);
 }

@@ -11,7 +11,7 @@
 // Input layout (kHeader option bytes, then float triples; see make_corpus.py):
 //   byte 0   k = byte % 16 (0..2 are invalid on purpose: the failure path)
 //   byte 1   bits 0-1 weight type, bit 2 disc topology, bit 3 optimization off,
-//            bits 4-5 base polyhedron (3: tetrahedron), bit 6 no self-intersection
+//            bits 4-5 base polyhedron (0: tetrahedron, 3: by size), bit 6 no self-intersection
 //            check, bit 7 ball neighbourhoods (radius from byte 2)
 //   byte 2   radius = (byte + 1) / 256 of the bounding-box diagonal of the finite
 //            points (only with bit 7 of byte 1)
@@ -153,6 +153,7 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
   reconstruction.setBasePolyhedron (
       polyhedron == 1   ? pcl::meshless::BasePolyhedron::Octahedron
       : polyhedron == 2 ? pcl::meshless::BasePolyhedron::Icosahedron
+      : polyhedron == 3 ? pcl::meshless::BasePolyhedron::BySize
                         : pcl::meshless::BasePolyhedron::Tetrahedron);
   reconstruction.setCheckSelfIntersections (check_intersections);
   if (use_radius) {

@@ -85,7 +85,8 @@ struct SphericalMeshlessReport
   * Topology" (Curve and Surface Design: Saint-Malo 2002), which extends Floater and
   * Reimers' meshless parameterization: neighbourhoods from the search method,
   * convex-combination weights on Delaunay-ordered neighbourhoods, a base
-  * tetrahedron whose edges become shortest paths that cut the cloud into disc
+  * tetrahedron (by default an octahedron above 500,000 points, see
+  * setBasePolyhedron) whose edges become shortest paths that cut the cloud into disc
   * patches, one sparse linear solve and one exact 2D Delaunay triangulation per
   * patch, merged into one closed triangulation.
   *

@@ -522,7 +522,10 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // a genus-0 cloud's first mesh back over 8% of its area (measured: cow_igl's
   // hooves and horns, depending on the order of the points), and a cloud with a
   // handle or a boundary gets a second result that turns back too (rocker_arm,
-  // fertility, face_igl: rejected all the same, face_igl 0.3 s later).
+  // fertility, face_igl: rejected all the same, face_igl 0.3 s later). A second
+  // result that does not turn back is a sphere-like surface by the same test the
+  // first one failed, so the further base meshes below may then run; a layout that
+  // hid a handle behind a membrane would have to pass that test too.
   if (sphere && report_.mesh.self_intersecting_pairs > 0 && report_.stats.thin_part_edges > 0) {
     meshless::SpherePipelineOptions thin = sphere_options;
     thin.separate_thin_sheets = true;

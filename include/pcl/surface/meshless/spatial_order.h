@@ -6,6 +6,7 @@
 
 #include <pcl/surface/meshless/types.h>
 
+#include <cstdint>
 #include <vector>
 
 /** \file
@@ -15,17 +16,24 @@
   * Every stage walks the points' neighbourhoods: kNN queries, rings, weights, the
   * patches' sparse systems, the mesh checks. In the order a scanner or a file
   * delivers them, a point's neighbours lie anywhere in memory, and on a million
-  * points each visit misses the cache. Measured on armadillo_uniform_1m, the same
-  * reconstruction on the cloud sorted along a Morton (Z-order) curve: neighbourhood
-  * queries 2.9 -> 1.0 s, rings 3.5 -> 1.8 s, the patches' solves 10.0 -> 4.4 s (the
-  * fill-reducing ordering also finds less fill), 32 -> 19 s in all.
+  * points each visit misses the cache. Measured on armadillo_uniform_1m in the same
+  * hour, its file's order against this one: neighbourhood queries 2.9 -> 1.0 s,
+  * rings 3.5 -> 1.8 s, the patches' solves 10.0 -> 4.8 s (the fill-reducing ordering
+  * also finds less fill), 32.3 -> 19.8 s in all.
   */
 namespace pcl {
 namespace meshless {
 
+/** \brief The Morton (Z-order) key of a cell: the low 21 bits of x, y and z
+  * interleaved, x in the lowest bit. */
+std::uint64_t
+mortonKey (std::uint64_t x, std::uint64_t y, std::uint64_t z);
+
 /** \brief The points' indices sorted along a Morton (Z-order) curve over their
   * bounding cube, 21 bits per axis; points in the same cell keep their input order.
-  * \param[in] points positions; non-finite coordinates sort as the cube's lowest cell
+  * \param[in] points positions; a NaN or -inf coordinate counts as the cube's lowest
+  *            cell along its axis, +inf as the highest (only finite points bound the
+  *            cube)
   * \return a permutation of 0 .. points.size () - 1: the k-th point of the new
   *         order is points[order[k]]
   */

@@ -36,7 +36,8 @@ struct SpherePipelineOptions
   /** \brief Default: WeightType::MeanValue. */
   WeightType weights = WeightType::MeanValue;
   /** \brief Base mesh D when no user base mesh is given. Default: the paper's
-    * tetrahedron. */
+    * tetrahedron. BasePolyhedron::BySize picks it from the number of points (see
+    * polyhedronForSize); the class's default. */
   BasePolyhedron polyhedron = BasePolyhedron::Tetrahedron;
   /** \brief A user base mesh (vertices are indices into the points); used instead
     * of `polyhedron` when it has faces. */
