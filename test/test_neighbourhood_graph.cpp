@@ -76,23 +76,68 @@ TEST (NeighbourhoodGraph, KNearestAgreesWithBruteForce)
 {
   const auto cloud = randomCloud (2000, 1.0, 7);
   const auto members = allIndices (cloud->size ());
-  NeighbourhoodOptions options;
-  options.k = 12;
-  const Neighbourhoods result = searchAll (cloud, members, options);
-  ASSERT_TRUE (result.success) << result.message;
-  ASSERT_EQ (result.neighbours.size (), cloud->size ());
-  for (std::size_t v = 0; v < cloud->size (); ++v) {
-    ASSERT_EQ (result.neighbours.degree (v), 12);
-    std::vector<double> got;
-    for (auto w = result.neighbours.begin (v); w != result.neighbours.end (v); ++w) {
-      ASSERT_NE (static_cast<std::size_t> (*w), v) << "a point is its own neighbour";
-      got.push_back (sqrDistance ((*cloud)[v], (*cloud)[*w]));
+  // 12: the rows share one array; 300: beyond its stride cap, a vector per row.
+  for (const int k : {12, 300}) {
+    NeighbourhoodOptions options;
+    options.k = k;
+    const Neighbourhoods result = searchAll (cloud, members, options);
+    ASSERT_TRUE (result.success) << result.message;
+    ASSERT_EQ (result.neighbours.size (), cloud->size ());
+    for (std::size_t v = 0; v < cloud->size (); ++v) {
+      ASSERT_EQ (result.neighbours.degree (v), k);
+      std::vector<double> got;
+      for (auto w = result.neighbours.begin (v); w != result.neighbours.end (v); ++w) {
+        ASSERT_NE (static_cast<std::size_t> (*w), v) << "a point is its own neighbour";
+        got.push_back (sqrDistance ((*cloud)[v], (*cloud)[*w]));
+      }
+      // Nearest first, up to the search's float rounding of nearly equal distances.
+      for (std::size_t j = 1; j < got.size (); ++j)
+        ASSERT_GE (got[j], got[j - 1] - 1e-6 * got[j]) << "not nearest first";
+      const auto expected = bruteForceKnnDistances (*cloud, members, v, k);
+      for (int j = 0; j < k; ++j)
+        ASSERT_NEAR (got[j], expected[j], 1e-6 * expected[j] + 1e-12) << "k " << k << ", point " << v;
     }
-    EXPECT_TRUE (std::is_sorted (got.begin (), got.end ())) << "not nearest first";
-    const auto expected = bruteForceKnnDistances (*cloud, members, v, 12);
-    for (int j = 0; j < 12; ++j)
-      ASSERT_NEAR (got[j], expected[j], 1e-6 * expected[j] + 1e-12) << "point " << v;
   }
+}
+
+TEST (NeighbourhoodGraph, ResultsOutsideTheSubsetAreDroppedLeavingShortRows)
+{
+  // The search covers the whole cloud, the pipeline only every other point: each
+  // row keeps those of the k nearest that are pipeline points, so rows differ in
+  // length and are packed from a fixed stride.
+  const auto cloud = randomCloud (1000, 1.0, 5);
+  pcl::search::KdTree<pcl::PointXYZ> tree;
+  tree.setInputCloud (cloud);
+  pcl::Indices members;
+  for (pcl::index_t i = 0; i < 1000; i += 2)
+    members.push_back (i);
+  NeighbourhoodOptions options;
+  options.k = 10;
+  const Neighbourhoods result = searchNeighbourhoods (tree, members, options);
+  ASSERT_TRUE (result.success) << result.message;
+  ASSERT_EQ (result.neighbours.size (), members.size ());
+  const auto all = allIndices (cloud->size ());
+  std::set<int> degrees;
+  for (std::size_t v = 0; v < members.size (); ++v) {
+    // Brute force: the members among the 10 nearest other points of the cloud.
+    std::vector<std::pair<double, pcl::index_t>> nearest;
+    for (auto m : all)
+      if (m != members[v])
+        nearest.emplace_back (sqrDistance ((*cloud)[members[v]], (*cloud)[m]), m);
+    std::sort (nearest.begin (), nearest.end ());
+    std::vector<double> expected;
+    for (int j = 0; j < 10; ++j)
+      if (nearest[j].second % 2 == 0)
+        expected.push_back (nearest[j].first);
+    std::vector<double> got;
+    for (auto w = result.neighbours.begin (v); w != result.neighbours.end (v); ++w)
+      got.push_back (sqrDistance ((*cloud)[members[v]], (*cloud)[members[*w]]));
+    ASSERT_EQ (got.size (), expected.size ()) << "point " << v;
+    for (std::size_t j = 0; j < got.size (); ++j)
+      ASSERT_NEAR (got[j], expected[j], 1e-6 * expected[j] + 1e-12);
+    degrees.insert (result.neighbours.degree (v));
+  }
+  EXPECT_GT (degrees.size (), 3u) << "rows of several lengths";
 }
 
 TEST (NeighbourhoodGraph, BallAgreesWithBruteForce)

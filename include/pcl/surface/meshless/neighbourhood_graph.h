@@ -127,7 +127,16 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
   const unsigned int cap =
       options.max_neighbours > 0 ? static_cast<unsigned int> (plus_self (options.max_neighbours))
                                  : 0u;
-  std::vector<pcl::Indices> rows (n);
+  // k nearest: a row holds at most min(k, knn) entries, so the rows share one array
+  // with that stride and are packed in place afterwards (a vector per point cost
+  // two million allocations and 80 MB on a million points). Ball neighbourhoods
+  // and very large k keep a vector per row.
+  const std::size_t stride =
+      use_radius ? 0 : std::min (static_cast<std::size_t> (options.k), static_cast<std::size_t> (knn));
+  const bool flat = stride > 0 && stride <= 256;
+  std::vector<pcl::index_t> flat_rows (flat ? n * stride : 0);
+  std::vector<pcl::index_t> flat_size (flat ? n : 0);
+  std::vector<pcl::Indices> rows (flat ? 0 : n);
   std::size_t num_empty = 0;
 #pragma omp parallel reduction(+ : num_empty)
   {
@@ -147,16 +156,22 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
           use_radius ? (options.max_neighbours > 0 ? static_cast<std::size_t> (options.max_neighbours)
                                                    : found.size ())
                      : static_cast<std::size_t> (options.k);
-      pcl::Indices& row = rows[i];
-      for (std::size_t j = 0; j < found.size () && row.size () < limit; ++j) {
+      std::size_t size = 0;
+      for (std::size_t j = 0; j < found.size () && size < limit; ++j) {
         const auto w = local_of[found[j]];
         if (w < 0 || static_cast<std::size_t> (w) == i)
           continue;
         if (use_radius && !(sqr_distances[j] < options.radius * options.radius))
           continue;
-        row.push_back (w);
+        if (flat)
+          flat_rows[i * stride + size] = w;
+        else
+          rows[i].push_back (w);
+        ++size;
       }
-      if (row.empty ())
+      if (flat)
+        flat_size[i] = static_cast<pcl::index_t> (size);
+      if (size == 0)
         ++num_empty;
     }
   }
@@ -165,11 +180,25 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
   CsrGraph& g = result.neighbours;
   g.offsets.assign (n + 1, 0);
   for (std::size_t i = 0; i < n; ++i)
-    g.offsets[i + 1] = g.offsets[i] + static_cast<pcl::index_t> (rows[i].size ());
-  g.adjacency.resize (static_cast<std::size_t> (g.offsets[n]));
-  for (std::size_t i = 0; i < n; ++i) {
-    std::copy (rows[i].begin (), rows[i].end (), g.adjacency.begin () + g.offsets[i]);
-    pcl::Indices ().swap (rows[i]);
+    g.offsets[i + 1] =
+        g.offsets[i] + (flat ? flat_size[i] : static_cast<pcl::index_t> (rows[i].size ()));
+  if (flat) {
+    // In place, front to back: row i moves to offsets[i] <= i * stride.
+    g.adjacency = std::move (flat_rows);
+    for (std::size_t i = 0; i < n; ++i) {
+      const auto from = g.adjacency.begin () + static_cast<std::ptrdiff_t> (i * stride);
+      const auto to = g.adjacency.begin () + g.offsets[i];
+      if (to != from)
+        std::copy (from, from + flat_size[i], to);
+    }
+    g.adjacency.resize (static_cast<std::size_t> (g.offsets[n]));
+  }
+  else {
+    g.adjacency.resize (static_cast<std::size_t> (g.offsets[n]));
+    for (std::size_t i = 0; i < n; ++i) {
+      std::copy (rows[i].begin (), rows[i].end (), g.adjacency.begin () + g.offsets[i]);
+      pcl::Indices ().swap (rows[i]);
+    }
   }
   result.success = true;
   return result;
