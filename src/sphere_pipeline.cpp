@@ -154,12 +154,12 @@ triangulateSphere (const Points3& points,
   const int attempts = user_base ? 1 : std::max (1, options.max_base_attempts);
   std::string last_problem;
   const int first = user_base ? 0 : std::max (0, options.first_attempt);
+  const BasePolyhedron first_polyhedron = polyhedronForSize (options.polyhedron, n);
   for (int attempt = first; attempt < first + attempts; ++attempt) {
     stats.base_attempts = static_cast<std::size_t> (attempt - first + 1);
     stats.base_attempt = attempt;
     // Every second attempt tries the next polyhedron: other corners, and patches
     // of another size, fail for other reasons than a mere rotation.
-    const BasePolyhedron first_polyhedron = polyhedronForSize (options.polyhedron, n);
     const BasePolyhedron polyhedron =
         options.alternate_polyhedra && attempt % 2 == 1 ? nextPolyhedron (first_polyhedron)
                                                         : first_polyhedron;
