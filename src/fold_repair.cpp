@@ -9,6 +9,8 @@
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>
+#include <Eigen/SparseCore>
+#include <Eigen/SparseLU>
 
 #include <algorithm>
 #include <cmath>
@@ -569,7 +571,10 @@ public:
     for (std::size_t i = 0; i < ni; ++i)
       local[interior[i]] = m + i;
     const Points2 circle = circleBoundary (points_, loop);
-    Eigen::MatrixXd system = Eigen::MatrixXd::Identity (ni, ni);
+    // Sparse (a few neighbours per row): closed discs on thin parts reach a few
+    // hundred unknowns, whose dense LU Eigen spread over OpenMP threads that mostly
+    // waited (cow_igl: 4.7 s of CPU for 3.2 s of wall time, sparse 3.5 for 3.3).
+    std::vector<Eigen::Triplet<double>> entries;
     Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero (ni, 2);
     for (std::size_t i = 0; i < ni; ++i) {
       const pcl::index_t x = interior[i];
@@ -585,15 +590,23 @@ public:
       }
       if (support.empty ())
         return {};
+      entries.emplace_back (static_cast<int> (i), static_cast<int> (i), 1.0);
       for (const auto& [j, w] : support) {
         if (j < m)
           rhs.row (i) += (w / total) * circle[j].transpose ();
         else
-          system (i, j - m) -= w / total;
+          entries.emplace_back (static_cast<int> (i), static_cast<int> (j - m), -w / total);
       }
     }
-    const Eigen::MatrixX2d solution = system.partialPivLu ().solve (rhs);
-    if (!solution.allFinite () || (system * solution - rhs).norm () > 1e-9 * std::max (1.0, rhs.norm ()))
+    Eigen::SparseMatrix<double> system (static_cast<Eigen::Index> (ni), static_cast<Eigen::Index> (ni));
+    system.setFromTriplets (entries.begin (), entries.end ());
+    Eigen::SparseLU<Eigen::SparseMatrix<double>> lu;
+    lu.compute (system);
+    if (lu.info () != Eigen::Success)
+      return {};
+    const Eigen::MatrixX2d solution = lu.solve (rhs);
+    if (lu.info () != Eigen::Success || !solution.allFinite () ||
+        (system * solution - rhs).norm () > 1e-9 * std::max (1.0, rhs.norm ()))
       return {};
     Points2 uv (m + ni);
     for (std::size_t i = 0; i < m; ++i)
