@@ -243,78 +243,16 @@ public:
             star_slots_.begin () + static_cast<std::ptrdiff_t> (star_offsets_[v + 1])};
   }
 
-  /** The triangles through the vertices `inner`, grown into a disc: where the
-    * region's boundary touches itself (a vertex it passes twice, as around a thin
-    * spike that the rings reached from two sides) that vertex joins `inner`, and
-    * where it has holes the vertices of every loop but the longest do, until the
-    * boundary is one simple loop. False if that takes more than max_triangles. */
-  bool
-  closedRegion (std::vector<pcl::index_t>& inner, std::size_t max_triangles,
-                std::vector<std::int32_t>& slots) const
-  {
-    for (int growth = 0; growth < 16; ++growth) {
-      std::sort (inner.begin (), inner.end ());
-      inner.erase (std::unique (inner.begin (), inner.end ()), inner.end ());
-      slots.clear ();
-      for (const pcl::index_t v : inner) {
-        const auto around = star (v);
-        slots.insert (slots.end (), around.begin (), around.end ());
-      }
-      std::sort (slots.begin (), slots.end ());
-      slots.erase (std::unique (slots.begin (), slots.end ()), slots.end ());
-      if (slots.size () > max_triangles || slots.size () < 4)
-        return false;
-      std::set<std::pair<pcl::index_t, pcl::index_t>> directed;
-      for (const std::int32_t t : slots)
-        for (int k = 0; k < 3; ++k)
-          directed.insert ({triangles_[t][k], triangles_[t][(k + 1) % 3]});
-      std::map<pcl::index_t, std::vector<pcl::index_t>> next;
-      for (const auto& [a, b] : directed)
-        if (!directed.count ({b, a}))
-          next[a].push_back (b);
-      std::vector<pcl::index_t> pinched;
-      for (const auto& [a, after] : next)
-        if (after.size () > 1)
-          pinched.push_back (a);
-      if (!pinched.empty ()) {
-        inner.insert (inner.end (), pinched.begin (), pinched.end ());
-        continue;
-      }
-      // The loops of the boundary; all but the longest are holes.
-      std::vector<std::vector<pcl::index_t>> loops;
-      std::set<pcl::index_t> seen;
-      for (const auto& [start, after] : next) {
-        if (seen.count (start))
-          continue;
-        loops.emplace_back ();
-        for (pcl::index_t x = start; !seen.count (x);) {
-          seen.insert (x);
-          loops.back ().push_back (x);
-          const auto found = next.find (x);
-          if (found == next.end ())
-            return false; // the boundary does not close
-          x = found->second[0];
-        }
-      }
-      if (loops.size () <= 1)
-        return true;
-      std::sort (loops.begin (), loops.end (),
-                 [] (const auto& a, const auto& b) { return a.size () > b.size (); });
-      for (std::size_t l = 1; l < loops.size (); ++l)
-        inner.insert (inner.end (), loops[l].begin (), loops[l].end ());
-    }
-    return false;
-  }
-
   /** Re-meshes the disc formed by the triangles through the vertices `inner`
-    * (closed as closedRegion does; taken out and put back in the plane of the
+    * (closed as closedDiscRegion does; taken out and put back in the plane of the
     * disc's boundary, or in a map) if that lowers the number of intersecting pairs;
     * returns the decrease (0 if left alone). */
   std::size_t
   tryRemesh (std::vector<pcl::index_t> inner, std::size_t max_triangles)
   {
-    std::vector<std::int32_t> slots;
-    if (!closedRegion (inner, max_triangles, slots))
+    const std::vector<std::int32_t> slots = closedDiscRegion (
+        triangles_, [this] (pcl::index_t v) { return star (v); }, inner, max_triangles);
+    if (slots.empty ())
       return 0;
     const auto inRegion = [&] (std::int32_t t) {
       return std::binary_search (slots.begin (), slots.end (), t);
@@ -867,6 +805,69 @@ private:
 };
 
 } // namespace
+
+std::vector<std::int32_t>
+closedDiscRegion (const Triangles& triangles,
+                  const std::function<std::vector<std::int32_t> (pcl::index_t)>& star,
+                  std::vector<pcl::index_t>& inner,
+                  std::size_t max_triangles)
+{
+  std::vector<std::int32_t> slots;
+  for (int growth = 0; growth < 16; ++growth) {
+    std::sort (inner.begin (), inner.end ());
+    inner.erase (std::unique (inner.begin (), inner.end ()), inner.end ());
+    slots.clear ();
+    for (const pcl::index_t v : inner) {
+      const auto around = star (v);
+      slots.insert (slots.end (), around.begin (), around.end ());
+    }
+    std::sort (slots.begin (), slots.end ());
+    slots.erase (std::unique (slots.begin (), slots.end ()), slots.end ());
+    if (slots.size () > max_triangles || slots.size () < 4)
+      return {};
+    std::set<std::pair<pcl::index_t, pcl::index_t>> directed;
+    for (const std::int32_t t : slots)
+      for (int k = 0; k < 3; ++k)
+        directed.insert ({triangles[t][k], triangles[t][(k + 1) % 3]});
+    std::map<pcl::index_t, std::vector<pcl::index_t>> next;
+    for (const auto& [a, b] : directed)
+      if (!directed.count ({b, a}))
+        next[a].push_back (b);
+    if (next.empty ())
+      return {}; // the whole (closed) mesh
+    std::vector<pcl::index_t> pinched;
+    for (const auto& [a, after] : next)
+      if (after.size () > 1)
+        pinched.push_back (a);
+    if (!pinched.empty ()) {
+      inner.insert (inner.end (), pinched.begin (), pinched.end ());
+      continue;
+    }
+    // The loops of the boundary; all but the longest are holes.
+    std::vector<std::vector<pcl::index_t>> loops;
+    std::set<pcl::index_t> seen;
+    for (const auto& entry : next) {
+      if (seen.count (entry.first))
+        continue;
+      loops.emplace_back ();
+      for (pcl::index_t x = entry.first; !seen.count (x);) {
+        seen.insert (x);
+        loops.back ().push_back (x);
+        const auto found = next.find (x);
+        if (found == next.end ())
+          return {}; // the boundary does not close
+        x = found->second[0];
+      }
+    }
+    if (loops.size () == 1)
+      return slots;
+    std::stable_sort (loops.begin (), loops.end (),
+                      [] (const auto& a, const auto& b) { return a.size () > b.size (); });
+    for (std::size_t l = 1; l < loops.size (); ++l)
+      inner.insert (inner.end (), loops[l].begin (), loops[l].end ());
+  }
+  return {};
+}
 
 FoldRepairResult
 repairFoldsByReinsertion (const Points3& points,

@@ -6,6 +6,8 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <map>
+#include <set>
 
 using namespace pcl::meshless;
 using meshless_test::geodesicSphere;
@@ -203,4 +205,126 @@ TEST (FoldRepair, SwapsLowerWhatNoDiscCanReach)
   EXPECT_LT (after.self_intersecting_pairs, fold.self_intersecting_pairs);
   EXPECT_EQ (result.pairs_after, after.self_intersecting_pairs);
   expectSameSphere (folded, swapped, after);
+}
+
+namespace {
+
+/** A flat triangular lattice of size x size vertices (row-major, vertex (i, j) at
+  * i + j / 2, j * sqrt(3) / 2), every inner vertex of degree 6, counter-clockwise. */
+Triangles
+triangularLattice (int size)
+{
+  Triangles triangles;
+  const auto at = [size] (int i, int j) { return static_cast<pcl::index_t> (j * size + i); };
+  for (int j = 0; j + 1 < size; ++j)
+    for (int i = 0; i + 1 < size; ++i) {
+      triangles.push_back ({at (i, j), at (i + 1, j), at (i, j + 1)});
+      triangles.push_back ({at (i + 1, j), at (i + 1, j + 1), at (i, j + 1)});
+    }
+  return triangles;
+}
+
+/** closedDiscRegion on `triangles` with stars found by scanning. */
+std::vector<std::int32_t>
+closedDisc (const Triangles& triangles, std::vector<pcl::index_t>& inner, std::size_t max_triangles)
+{
+  const auto star = [&] (pcl::index_t v) {
+    std::vector<std::int32_t> around;
+    for (std::size_t t = 0; t < triangles.size (); ++t)
+      if (std::find (triangles[t].begin (), triangles[t].end (), v) != triangles[t].end ())
+        around.push_back (static_cast<std::int32_t> (t));
+    return around;
+  };
+  return closedDiscRegion (triangles, star, inner, max_triangles);
+}
+
+/** Boundary loops of the triangles in `slots` (directed edges without their
+  * reverse), and whether some vertex starts two boundary edges. */
+std::size_t
+boundaryLoops (const Triangles& triangles, const std::vector<std::int32_t>& slots, bool& pinched)
+{
+  std::set<std::pair<pcl::index_t, pcl::index_t>> directed;
+  for (const std::int32_t t : slots)
+    for (int k = 0; k < 3; ++k)
+      directed.insert ({triangles[t][k], triangles[t][(k + 1) % 3]});
+  std::map<pcl::index_t, pcl::index_t> next;
+  pinched = false;
+  for (const auto& [a, b] : directed)
+    if (!directed.count ({b, a}))
+      pinched |= !next.emplace (a, b).second;
+  std::set<pcl::index_t> seen;
+  std::size_t loops = 0;
+  for (const auto& [start, after] : next) {
+    if (seen.count (start))
+      continue;
+    ++loops;
+    for (pcl::index_t x = start; seen.insert (x).second && next.count (x);)
+      x = next[x];
+  }
+  return loops;
+}
+
+} // namespace
+
+TEST (FoldRepair, DiscRegionTakesInAVertexItsStarsReachFromTwoSides)
+{
+  // Two vertices two steps apart on a row of the lattice: their stars meet only in
+  // the vertex between them, which the boundary passes twice. The region takes
+  // that vertex in and becomes the disc of the three stars.
+  const int size = 9;
+  const Triangles lattice = triangularLattice (size);
+  const pcl::index_t middle = 4 * size + 4;
+  std::vector<pcl::index_t> inner{middle - 1, middle + 1};
+  bool pinched = false;
+  std::vector<std::int32_t> stars;
+  for (std::size_t t = 0; t < lattice.size (); ++t)
+    for (const pcl::index_t v : inner)
+      if (std::find (lattice[t].begin (), lattice[t].end (), v) != lattice[t].end ())
+        stars.push_back (static_cast<std::int32_t> (t));
+  std::sort (stars.begin (), stars.end ());
+  stars.erase (std::unique (stars.begin (), stars.end ()), stars.end ());
+  ASSERT_EQ (stars.size (), 12u);
+  boundaryLoops (lattice, stars, pinched);
+  ASSERT_TRUE (pinched); // the two stars alone are no disc
+
+  const std::vector<std::int32_t> region = closedDisc (lattice, inner, 300);
+  EXPECT_TRUE (std::binary_search (inner.begin (), inner.end (), middle));
+  EXPECT_EQ (region.size (), 14u); // three stars of 6, the middle one sharing 2 with each
+  EXPECT_EQ (boundaryLoops (lattice, region, pinched), 1u);
+  EXPECT_FALSE (pinched);
+  // A limit that the two stars meet but the closed disc does not gives no region.
+  std::vector<pcl::index_t> again{middle - 1, middle + 1};
+  EXPECT_TRUE (closedDisc (lattice, again, 13).empty ());
+}
+
+TEST (FoldRepair, DiscRegionFillsTheHoleItSurrounds)
+{
+  // The stars of the ring two steps around a vertex form an annulus around the
+  // vertex's own star: the inner loop is a hole, and the region grows over it.
+  const int size = 11;
+  const Triangles lattice = triangularLattice (size);
+  const pcl::index_t centre = 5 * size + 5;
+  std::set<pcl::index_t> ring1, ring2;
+  for (const auto& t : lattice)
+    if (std::find (t.begin (), t.end (), centre) != t.end ())
+      for (const pcl::index_t x : t)
+        if (x != centre)
+          ring1.insert (x);
+  for (const auto& t : lattice)
+    for (const pcl::index_t x : t)
+      if (ring1.count (x))
+        for (const pcl::index_t y : t)
+          if (y != centre && !ring1.count (y))
+            ring2.insert (y);
+  ASSERT_EQ (ring1.size (), 6u);
+  ASSERT_EQ (ring2.size (), 12u);
+  std::vector<pcl::index_t> inner (ring2.begin (), ring2.end ());
+  const std::vector<std::int32_t> region = closedDisc (lattice, inner, 300);
+  bool pinched = true;
+  EXPECT_EQ (boundaryLoops (lattice, region, pinched), 1u);
+  EXPECT_FALSE (pinched);
+  for (const pcl::index_t x : ring1)
+    EXPECT_TRUE (std::binary_search (inner.begin (), inner.end (), x)) << x;
+  // Every triangle within three steps of the centre: 6 * 3^2 = 54.
+  EXPECT_EQ (region.size (), 54u);
 }

@@ -7,6 +7,8 @@
 #include <pcl/surface/meshless/types.h>
 
 #include <cstddef>
+#include <cstdint>
+#include <functional>
 #include <utility>
 #include <vector>
 
@@ -77,6 +79,28 @@ struct FoldRepairResult : StageStatus
   /** \brief Edge swaps (single or in twos) that lowered the pair count. */
   std::size_t swaps = 0;
 };
+
+/** \brief The region repairFoldsByReinsertion re-meshes around the vertices
+  * `inner`: the triangles through them, grown until the region is a disc. Where
+  * its boundary passes a vertex twice (the stars of `inner` reach it from two
+  * sides, as around a thin spike or an ear's rim) that vertex joins `inner`; where
+  * the boundary has several loops, the vertices of every loop but the longest do
+  * (the region surrounded triangles it did not cover). Repeated until the boundary
+  * is one simple loop, at most 16 times.
+  * \param[in] triangles a manifold mesh (closed or with boundary)
+  * \param[in] star the slots (positions in `triangles`) of the triangles through a
+  *            vertex
+  * \param[in,out] inner the vertices whose triangles form the region; on return
+  *                sorted, without repeats, with the vertices taken in
+  * \param[in] max_triangles the largest region accepted
+  * \return the region's slots, sorted; empty if it grew beyond max_triangles, has
+  *         fewer than 4 triangles, covers the whole mesh, or did not close up
+  */
+std::vector<std::int32_t>
+closedDiscRegion (const Triangles& triangles,
+                  const std::function<std::vector<std::int32_t> (pcl::index_t)>& star,
+                  std::vector<pcl::index_t>& inner,
+                  std::size_t max_triangles);
 
 /** \brief Re-mesh small discs around the vertices of intersecting triangles
   * while that lowers the number of intersecting pairs.
