@@ -813,9 +813,13 @@ closedDiscRegion (const Triangles& triangles,
                   std::size_t max_triangles)
 {
   std::vector<std::int32_t> slots;
+  std::size_t last_size = 0;
   for (int growth = 0; growth < 16; ++growth) {
     std::sort (inner.begin (), inner.end ());
     inner.erase (std::unique (inner.begin (), inner.end ()), inner.end ());
+    if (growth > 0 && inner.size () == last_size)
+      return {}; // nothing new to take in (a boundary of the mesh itself, or non-manifold)
+    last_size = inner.size ();
     slots.clear ();
     for (const pcl::index_t v : inner) {
       const auto around = star (v);
@@ -850,7 +854,8 @@ closedDiscRegion (const Triangles& triangles,
       if (seen.count (entry.first))
         continue;
       loops.emplace_back ();
-      for (pcl::index_t x = entry.first; !seen.count (x);) {
+      pcl::index_t x = entry.first;
+      while (!seen.count (x)) {
         seen.insert (x);
         loops.back ().push_back (x);
         const auto found = next.find (x);
@@ -858,9 +863,13 @@ closedDiscRegion (const Triangles& triangles,
           return {}; // the boundary does not close
         x = found->second[0];
       }
+      if (x != entry.first)
+        return {}; // a tail into a loop: not an oriented manifold here
     }
     if (loops.size () == 1)
       return slots;
+    // Loops of equal length: the one through the smallest vertex index is kept
+    // (deterministic; around a limb the other side may then exceed max_triangles).
     std::stable_sort (loops.begin (), loops.end (),
                       [] (const auto& a, const auto& b) { return a.size () > b.size (); });
     for (std::size_t l = 1; l < loops.size (); ++l)
@@ -905,7 +914,8 @@ repairFoldsByReinsertion (const Points3& points,
         for (const pcl::index_t v : triangles[slot])
           candidates.insert (v);
     // The grid keeps the cells within 8 cells (16 mean edge lengths) of the folds:
-    // room for discs of two rings and the rounds after.
+    // room for discs of two rings and the rounds after. A closed disc reaching past
+    // them is not re-meshed (its pairs cannot be counted).
     FoldRepair repair (points, triangles, cell,
                        std::vector<pcl::index_t> (candidates.begin (), candidates.end ()), options);
     // Vertices of the triangles that still intersect, looked for where the repair

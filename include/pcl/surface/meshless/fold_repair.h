@@ -81,20 +81,23 @@ struct FoldRepairResult : StageStatus
 };
 
 /** \brief The region repairFoldsByReinsertion re-meshes around the vertices
-  * `inner`: the triangles through them, grown until the region is a disc. Where
+  * `inner`: the triangles through them, grown until the region's boundary is one
+  * simple loop (a disc on a genus-0 mesh; tryRemesh checks the Euler count). Where
   * its boundary passes a vertex twice (the stars of `inner` reach it from two
   * sides, as around a thin spike or an ear's rim) that vertex joins `inner`; where
   * the boundary has several loops, the vertices of every loop but the longest do
-  * (the region surrounded triangles it did not cover). Repeated until the boundary
-  * is one simple loop, at most 16 times.
+  * (the region surrounded triangles it did not cover; `inner` is meant to be
+  * connected, as a vertex with its rings is). Repeated until the boundary is one
+  * simple loop, at most 16 times.
   * \param[in] triangles a manifold mesh (closed or with boundary)
   * \param[in] star the slots (positions in `triangles`) of the triangles through a
   *            vertex
   * \param[in,out] inner the vertices whose triangles form the region; on return
-  *                sorted, without repeats, with the vertices taken in
+  *                also the vertices taken in
   * \param[in] max_triangles the largest region accepted
   * \return the region's slots, sorted; empty if it grew beyond max_triangles, has
-  *         fewer than 4 triangles, covers the whole mesh, or did not close up
+  *         fewer than 4 triangles, covers the whole mesh, or did not close up (a
+  *         boundary that is no set of loops, or nothing left to take in)
   */
 std::vector<std::int32_t>
 closedDiscRegion (const Triangles& triangles,
