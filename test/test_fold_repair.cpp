@@ -327,4 +327,24 @@ TEST (FoldRepair, DiscRegionFillsTheHoleItSurrounds)
     EXPECT_TRUE (std::binary_search (inner.begin (), inner.end (), x)) << x;
   // Every triangle within three steps of the centre: 6 * 3^2 = 54.
   EXPECT_EQ (region.size (), 54u);
+  // The annulus alone (48 triangles) fits a limit of 50, the filled disc does not.
+  std::vector<pcl::index_t> again (ring2.begin (), ring2.end ());
+  EXPECT_TRUE (closedDisc (lattice, again, 50).empty ());
+}
+
+TEST (FoldRepair, DiscRegionOfAWholeClosedMeshIsNone)
+{
+  // Every vertex of a closed sphere: no boundary at all, so no disc to re-mesh.
+  const Mesh sphere = geodesicSphere (2);
+  std::vector<pcl::index_t> inner (sphere.vertices.size ());
+  for (std::size_t v = 0; v < inner.size (); ++v)
+    inner[v] = static_cast<pcl::index_t> (v);
+  EXPECT_TRUE (closedDisc (sphere.triangles, inner, sphere.triangles.size ()).empty ());
+  // One vertex's star is a disc as it is.
+  std::vector<pcl::index_t> one{0};
+  const std::vector<std::int32_t> star = closedDisc (sphere.triangles, one, 300);
+  bool pinched = true;
+  EXPECT_EQ (boundaryLoops (sphere.triangles, star, pinched), 1u);
+  EXPECT_FALSE (pinched);
+  EXPECT_EQ (one, std::vector<pcl::index_t>{0});
 }
