@@ -12,6 +12,131 @@
 namespace pcl {
 namespace meshless {
 
+namespace {
+
+/** Above this confidence an edge joins two points into one region of settled
+  * orientation (see settleRegionsByConsensus). */
+constexpr double region_confidence = 0.3;
+/** Every graph edge's least say in the consensus between two regions. */
+constexpr double evidence_floor = 0.05;
+
+/** How much the orientation of v says about w's: parallel normals, and an edge in
+  * both tangent planes (1 at best; an edge along either normal crosses a thin part
+  * and says little or the opposite). */
+double
+confidence (const Points3& points, const std::vector<Eigen::Vector3f>& normals, pcl::index_t v, pcl::index_t w)
+{
+  const Eigen::Vector3d nv = normals[v].cast<double> ();
+  const Eigen::Vector3d nw = normals[w].cast<double> ();
+  const Eigen::Vector3d e = (points[w] - points[v]).normalized ();
+  return std::abs (nv.dot (nw)) - std::abs (nv.dot (e)) - std::abs (nw.dot (e));
+}
+
+/** Revises the signs `flip` that the spanning tree gave: one edge of the tree
+  * decides a whole part, and on a limb a few points around (cow_igl's legs and
+  * horns) that edge may cross the limb, turning everything beyond it inwards.
+  * Points joined by confident edges whose signs agree form regions; between two
+  * regions every graph edge votes, weighted by its confidence (at least
+  * evidence_floor), for the same or the opposite sign; from each component's largest
+  * region a spanning tree over the regions, strongest sums first, settles each
+  * region's sign. Signs inside a region stay as they are. */
+void
+settleRegionsByConsensus (const Points3& points,
+                          const CsrGraph& graph,
+                          const CsrGraph& mutual,
+                          const std::vector<Eigen::Vector3f>& normals,
+                          std::vector<char>& flip)
+{
+  const std::size_t n = points.size ();
+  const auto agree = [&] (pcl::index_t v, pcl::index_t w) {
+    return (normals[v].dot (normals[w]) > 0.0f) == (flip[v] == flip[w]);
+  };
+  std::vector<pcl::index_t> region (n, -1), stack;
+  std::vector<std::size_t> region_size;
+  for (std::size_t v = 0; v < n; ++v) {
+    if (region[v] >= 0)
+      continue;
+    const auto label = static_cast<pcl::index_t> (region_size.size ());
+    region[v] = label;
+    stack.assign (1, static_cast<pcl::index_t> (v));
+    std::size_t size = 0;
+    while (!stack.empty ()) {
+      const pcl::index_t x = stack.back ();
+      stack.pop_back ();
+      ++size;
+      for (const pcl::index_t* w = mutual.begin (x); w != mutual.end (x); ++w)
+        if (region[*w] < 0 && agree (x, *w) && confidence (points, normals, x, *w) > region_confidence) {
+          region[*w] = label;
+          stack.push_back (*w);
+        }
+    }
+    region_size.push_back (size);
+  }
+  const std::size_t regions = region_size.size ();
+
+  // Sum of votes per pair of regions: > 0 keep their present relative sign.
+  struct Vote
+  {
+    pcl::index_t a, b;
+    double sum;
+  };
+  std::vector<Vote> votes;
+  for (std::size_t v = 0; v < n; ++v)
+    for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
+      if (region[v] < region[*w]) {
+        const double weight =
+            std::max (0.0, confidence (points, normals, static_cast<pcl::index_t> (v), *w)) + evidence_floor;
+        votes.push_back ({region[v], region[*w], agree (static_cast<pcl::index_t> (v), *w) ? weight : -weight});
+      }
+  std::sort (votes.begin (), votes.end (), [] (const Vote& x, const Vote& y) {
+    return x.a != y.a ? x.a < y.a : x.b < y.b;
+  });
+  std::vector<Vote> sums;
+  for (const Vote& vote : votes)
+    if (!sums.empty () && sums.back ().a == vote.a && sums.back ().b == vote.b)
+      sums.back ().sum += vote.sum;
+    else
+      sums.push_back (vote);
+  std::vector<std::vector<std::size_t>> around (regions);
+  for (std::size_t i = 0; i < sums.size (); ++i) {
+    around[sums[i].a].push_back (i);
+    around[sums[i].b].push_back (i);
+  }
+
+  std::vector<pcl::index_t> by_size (regions);
+  for (std::size_t r = 0; r < regions; ++r)
+    by_size[r] = static_cast<pcl::index_t> (r);
+  std::stable_sort (by_size.begin (), by_size.end (), [&] (pcl::index_t x, pcl::index_t y) {
+    return region_size[x] > region_size[y];
+  });
+  std::vector<char> turn (regions, 0), settled (regions, 0);
+  using Entry = std::pair<double, std::pair<pcl::index_t, std::size_t>>; // (|sum|, (from, vote))
+  std::priority_queue<Entry> heap;
+  for (const pcl::index_t start : by_size) {
+    if (settled[start])
+      continue;
+    settled[start] = 1;
+    for (const std::size_t i : around[start])
+      heap.push ({std::abs (sums[i].sum), {start, i}});
+    while (!heap.empty ()) {
+      const auto [from, i] = heap.top ().second;
+      heap.pop ();
+      const pcl::index_t to = sums[i].a == from ? sums[i].b : sums[i].a;
+      if (settled[to])
+        continue;
+      settled[to] = 1;
+      turn[to] = sums[i].sum >= 0.0 ? turn[from] : !turn[from];
+      for (const std::size_t j : around[to])
+        heap.push ({std::abs (sums[j].sum), {to, j}});
+    }
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    if (turn[region[v]])
+      flip[v] = !flip[v];
+}
+
+} // namespace
+
 NormalOrientation
 orientNormals (const Points3& points,
                const CsrGraph& graph,
@@ -56,13 +181,8 @@ orientNormals (const Points3& points,
     const Eigen::Vector3d normal = ordered.normals[v].cast<double> ();
     return flip[v] ? Eigen::Vector3d (-normal) : normal;
   };
-  // How much the orientation of v says about w's: parallel normals, and an edge
-  // in both tangent planes.
   auto confidence = [&] (pcl::index_t v, pcl::index_t w) {
-    const Eigen::Vector3d nv = ordered.normals[v].cast<double> ();
-    const Eigen::Vector3d nw = ordered.normals[w].cast<double> ();
-    const Eigen::Vector3d e = (points[w] - points[v]).normalized ();
-    return std::abs (nv.dot (nw)) - std::abs (nv.dot (e)) - std::abs (nw.dot (e));
+    return meshless::confidence (points, ordered.normals, v, w);
   };
   using Entry = std::pair<double, std::pair<pcl::index_t, pcl::index_t>>; // (weight, (from, to))
   std::priority_queue<Entry> heap;
@@ -95,6 +215,7 @@ orientNormals (const Points3& points,
   }
   grow (mutual);
   grow (graph);
+  settleRegionsByConsensus (points, graph, mutual, ordered.normals, flip);
 
   // The seed decides each component's sign alone and may sit in a thin part whose
   // propagation went astray. On a closed surface the outward normal field gives
