@@ -157,7 +157,8 @@ struct Outcome
 };
 
 /** Runs the reconstruction and asserts the contract: success with every sphere
-  * invariant over `vertices`, or no polygons, an empty output cloud and a message. */
+  * invariant over `vertices` (embedded too: no self-intersecting pairs), or no
+  * polygons, an empty output cloud and a message. */
 Outcome
 expectContract (Reconstruction& reconstruction, const std::set<pcl::index_t>& vertices)
 {
@@ -171,6 +172,7 @@ expectContract (Reconstruction& reconstruction, const std::set<pcl::index_t>& ve
     EXPECT_TRUE (report.mesh.isSphereLike ()) << pcl::meshless::describe (report.mesh);
     EXPECT_EQ (report.mesh.unused_vertices, 0u);
     EXPECT_GT (report.mesh.signed_volume, 0.0) << "outward orientation";
+    EXPECT_EQ (report.mesh.self_intersecting_pairs, 0u) << pcl::meshless::describe (report.mesh);
     EXPECT_EQ (report.num_points, vertices.size ());
     expectSphereInvariants (mesh.polygons, vertices);
   }
