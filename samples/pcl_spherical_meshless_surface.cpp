@@ -44,6 +44,9 @@ usage (const char* program)
       "                       tetrahedron up to 500000 points, octahedron above)\n"
       "  -retries N           further base meshes tried while the result intersects\n"
       "                       itself (default 2; 0 for speed)\n"
+      "  -self_intersections fail|keep\n"
+      "                       a mesh whose triangles still intersect after the repair:\n"
+      "                       an error (default) or written with a warning\n"
       "  -threads N           worker threads (default: all cores)\n",
       program, program);
 }
@@ -142,6 +145,12 @@ main (int argc, char** argv)
           return fail ("-retries needs a number of at least 0");
         reconstruction.setBaseRetries (retries);
       }
+      else if (arg == "-self_intersections") {
+        const std::string x = value ();
+        if (x != "fail" && x != "keep")
+          return fail ("-self_intersections takes fail or keep");
+        reconstruction.setAllowSelfIntersections (x == "keep");
+      }
       else if (arg == "-base") {
         const std::string b = value ();
         if (b == "auto")
@@ -218,8 +227,15 @@ main (int argc, char** argv)
   reconstruction.reconstruct (mesh);
   const double seconds = secondsSince (start);
   const pcl::SphericalMeshlessReport& report = reconstruction.getReport ();
-  if (!report.success)
-    return fail (report.message);
+  if (!report.success) {
+    // The class names its setters; here the option that sets them.
+    std::string reason = report.message;
+    const std::string setter = "setAllowSelfIntersections (true)";
+    const auto at = reason.find (setter);
+    if (at != std::string::npos)
+      reason.replace (at, setter.size (), "-self_intersections keep");
+    return fail (reason);
+  }
 
   if (reconstruction.getTopology () == Reconstruction::Topology::Sphere)
     std::printf ("mesh: %zu triangles through %zu points (2n - 4 = %zu) in %.2f s\n",

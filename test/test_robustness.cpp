@@ -805,6 +805,7 @@ TEST (Robustness, CommandLineBadInputsExitNonZeroWithOneLine)
   expectCliFailure ("-generate sphere:3 \"" + out + "\"", "four distinct");
   expectCliFailure ("-generate sphere:0 \"" + out + "\"", "empty");
   expectCliFailure ("\"" + line + "\" \"" + out + "\"", "on one line");
+  expectCliFailure ("-generate sphere:500 \"" + out + "\" -self_intersections maybe", "fail or keep");
   for (const auto& path : {empty, three, nan, identical, garbage, line, out})
     std::filesystem::remove (path);
 }

@@ -334,9 +334,11 @@ TEST (SphericalMeshlessReconstruction, FandiskHasThePapersTriangleCountAndNoInte
 TEST (SphericalMeshlessReconstruction, OtherBaseMeshesAreTriedWhilePairsRemain)
 {
   // cow_igl keeps pairs with the first base mesh: the retries try the next ones
-  // and keep a result only if it has fewer pairs; none when switched off.
+  // and keep a result only if it has fewer pairs; none when switched off. (Such
+  // a result only comes back when asked for.)
   MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/cow_igl.pcd");
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setAllowSelfIntersections (true);
   reconstruction.setBaseRetries (0);
   std::vector<pcl::Vertices> first;
   ASSERT_TRUE (reconstructFile (path, reconstruction, first)) << path;
@@ -368,6 +370,38 @@ TEST (SphericalMeshlessReconstruction, OtherBaseMeshesAreTriedWhilePairsRemain)
   EXPECT_TRUE (polygons.empty ());
   EXPECT_NE (reconstruction.getReport ().message.find ("setBaseRetries"), std::string::npos)
       << reconstruction.getReport ().message;
+}
+
+TEST (SphericalMeshlessReconstruction, PairsLeftFailUnlessAllowed)
+{
+  // cow_igl without retries keeps pairs (the first base mesh's result): by
+  // default a failure naming them and the setter, with an empty mesh; allowed, the
+  // closed mesh with the same count.
+  MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/cow_igl.pcd");
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  EXPECT_FALSE (reconstruction.getAllowSelfIntersections ());
+  reconstruction.setBaseRetries (0);
+  reconstruction.setAllowSelfIntersections (true);
+  std::vector<pcl::Vertices> kept;
+  ASSERT_TRUE (reconstructFile (path, reconstruction, kept)) << path;
+  const auto allowed = reconstruction.getReport ();
+  ASSERT_TRUE (allowed.success) << allowed.message;
+  expectClosedGenusZero (kept, range (allowed.num_points));
+  if (allowed.mesh.self_intersecting_pairs == 0)
+    GTEST_SKIP () << "the first base mesh leaves no pairs any more: nothing to refuse";
+
+  reconstruction.setAllowSelfIntersections (false);
+  pcl::PolygonMesh refused;
+  reconstruction.reconstruct (refused);
+  const auto& report = reconstruction.getReport ();
+  EXPECT_FALSE (report.success);
+  EXPECT_TRUE (refused.polygons.empty ());
+  EXPECT_TRUE (refused.cloud.data.empty ());
+  EXPECT_EQ (report.mesh.self_intersecting_pairs, allowed.mesh.self_intersecting_pairs);
+  EXPECT_NE (report.message.find (std::to_string (allowed.mesh.self_intersecting_pairs) + " pair"),
+             std::string::npos)
+      << report.message;
+  EXPECT_NE (report.message.find ("setAllowSelfIntersections"), std::string::npos) << report.message;
 }
 
 TEST (SphericalMeshlessReconstruction, RawFoldsAreRepairedBeforeTheSwaps)

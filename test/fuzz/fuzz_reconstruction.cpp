@@ -9,7 +9,8 @@
 // behaviour and escaping exceptions are caught by libFuzzer and the sanitizers.
 //
 // Input layout (kHeader option bytes, then float triples; see make_corpus.py):
-//   byte 0   k = byte % 16 (0..2 are invalid on purpose: the failure path)
+//   byte 0   k = byte % 16 (0..2 are invalid on purpose: the failure path); bit 7
+//            setAllowSelfIntersections (true)
 //   byte 1   bits 0-1 weight type, bit 2 disc topology, bit 3 optimization off,
 //            bits 4-5 base polyhedron (0: tetrahedron, 3: by size), bit 6 no self-intersection
 //            check, bit 7 ball neighbourhoods (radius from byte 2)
@@ -130,6 +131,7 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
   const bool use_indices = data[3] & 1;
   const bool user_base_mesh = data[3] & 2;
   const bool polygons_overload = data[3] & 4;
+  const bool allow_intersections = data[0] & 128;
   const std::size_t repeats = data[3] >> 3;
 
   auto cloud = pcl::make_shared<Cloud> ();
@@ -156,6 +158,7 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
       : polyhedron == 3 ? pcl::meshless::BasePolyhedron::BySize
                         : pcl::meshless::BasePolyhedron::Tetrahedron);
   reconstruction.setCheckSelfIntersections (check_intersections);
+  reconstruction.setAllowSelfIntersections (allow_intersections);
   if (use_radius) {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant (INFINITY), hi = -lo;
     for (const auto& p : *cloud)
@@ -235,12 +238,15 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
   if (used != expected)
     broken ("the vertices are not exactly the distinct finite points", reconstruction);
   pcl::meshless::MeshCheckOptions options;
-  options.check_self_intersections = false; // allowed (and reported) by the contract
+  // Pairs are counted and refused unless allowed (or not counted at all).
+  options.check_self_intersections = check_intersections && !allow_intersections;
   options.num_threads = 1;
   const pcl::meshless::MeshReport check =
       pcl::meshless::checkMesh (vertices, triangles, options);
   if (!check.success)
     broken ("checkMesh did not run", reconstruction);
+  if (check.self_intersecting_pairs > 0)
+    broken ("success with self-intersecting pairs, which were not allowed", reconstruction);
   if (!disc) {
     if (!check.isSphereLike ())
       broken (

@@ -94,15 +94,17 @@ struct SphericalMeshlessReport
   * vertex, every edge is shared by two triangles used in opposite directions, one
   * component, Euler characteristic 2, normals pointing outward. The class checks
   * these invariants on its own result; if they do not hold (or a stage fails) it
-  * logs PCL_ERROR with the cause and returns an empty mesh. Self-intersections
-  * are counted (getReport().mesh.self_intersecting_pairs) and reported with
-  * PCL_WARN: the topology is guaranteed, the embedding on noisy data is not.
+  * logs PCL_ERROR with the cause and returns an empty mesh. Self-intersecting
+  * triangle pairs are counted too (getReport().mesh.self_intersecting_pairs),
+  * folds re-meshed, further base meshes tried; if pairs still remain the
+  * reconstruction fails the same way, naming their number, unless
+  * setAllowSelfIntersections (true) asks for such a mesh (returned with PCL_WARN:
+  * the topology is guaranteed, the embedding of noisy or too thin parts is not).
   * A cloud that is not sphere-like (a handle, an open surface) is rejected when the
   * closed mesh through it intersects itself and either faces against the cloud's
   * oriented normals over more than max_area_against_normals of its area or passes
   * through itself between parts of the surface far apart on the mesh (more than
-  * max_local_fold_hops edges). The pairs left in an accepted mesh are local folds
-  * (reported with PCL_WARN).
+  * max_local_fold_hops edges); the pairs left otherwise are local folds.
   *
   * Exact duplicate points are merged (the first one is used; the others remain in
   * the output cloud as unused vertices). Non-finite points are skipped.
@@ -303,6 +305,24 @@ public:
     return check_self_intersections_;
   }
 
+  /** \brief Whether a mesh whose triangles still intersect each other in local
+    * folds, after the repair and the retries, is returned (with PCL_WARN and the
+    * count in getReport ()) rather than refused. Default false: a success is then
+    * embedded as well as closed. The folds that remain come from parts thinner than
+    * the point spacing or from noise; a viewer or a volume estimate may well live
+    * with a few. Without setCheckSelfIntersections nothing is counted, and nothing
+    * refused. */
+  inline void
+  setAllowSelfIntersections (bool allow)
+  {
+    allow_self_intersections_ = allow;
+  }
+  inline bool
+  getAllowSelfIntersections () const
+  {
+    return allow_self_intersections_;
+  }
+
   /** \brief Reconstruct a mesh over the input cloud (all of it, as
     * MeshConstruction does); see the class description.
     * \note The input and the indices are checked before anything else: no input
@@ -355,6 +375,7 @@ private:
   std::vector<pcl::Vertices> base_faces_;
   ProgressCallback progress_;
   bool check_self_intersections_ = true;
+  bool allow_self_intersections_ = false;
   bool optimize_ = true;
   meshless::EdgeSwapOptions swap_options_;
   int base_retries_ = 2;

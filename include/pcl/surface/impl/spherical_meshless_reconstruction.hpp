@@ -589,6 +589,13 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                  "% of its area faces against the cloud's normals (a handle, genus > 0; a "
                  "boundary: use setTopology (Topology::Disc); parts thinner than the point "
                  "spacing: sample them more densely; or far outliers: remove them)");
+  if (report_.mesh.self_intersecting_pairs > 0 && !allow_self_intersections_)
+    return fail (std::to_string (report_.mesh.self_intersecting_pairs) +
+                 " pair(s) of triangles still intersect each other in local folds after the "
+                 "repair and the retries (parts thinner than the point spacing, or noise): "
+                 "the mesh is " + (sphere ? "closed" : "manifold") +
+                 " but not embedded (setAllowSelfIntersections (true) returns it anyway; "
+                 "more neighbours or a denser sample may avoid the folds)");
   if (report_.mesh.self_intersecting_pairs > 0)
     PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect in local folds "
               "(noisy or thin input); the mesh is %s and oriented all the same\n",
