@@ -81,9 +81,10 @@ settleRegionsByConsensus (const Points3& points,
     double sum;
   };
   std::vector<Vote> votes;
+  // A point without a normal (a degenerate neighbourhood) says nothing about signs.
   for (std::size_t v = 0; v < n; ++v)
     for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
-      if (region[v] < region[*w]) {
+      if (region[v] < region[*w] && !normals[v].isZero () && !normals[*w].isZero ()) {
         const double weight =
             std::max (0.0, confidence (points, normals, static_cast<pcl::index_t> (v), *w)) + evidence_floor;
         votes.push_back ({region[v], region[*w], agree (static_cast<pcl::index_t> (v), *w) ? weight : -weight});

@@ -77,6 +77,9 @@ TEST (NormalOrientation, CowLegsFaceOutwards)
     volume += vertices[t[0]].dot (vertices[t[1]].cross (vertices[t[2]]));
   ASSERT_GT (volume, 0.0) << "the reference mesh should turn outwards";
 
+  // In the file's order (the pipeline numbers the points along a Z-order curve
+  // first; the spanning trees break ties by number): measured 0 of 276 inwards in
+  // both orders, 144 in both before the consensus.
   Unoriented surface = unoriented (points, 12);
   ASSERT_TRUE (surface.ordered.success);
   ASSERT_TRUE (orientNormals (points, surface.graph, surface.mutual, surface.ordered).success);
