@@ -53,6 +53,9 @@ struct SphericalMeshlessReport
     * whether one of them gave the result (fewer intersecting pairs). */
   std::size_t base_retries = 0;
   bool base_retry_kept = false;
+  /** \brief The k of the neighbourhoods the result came from: the given one, or
+    * two more where folds were left with it (0 with a search radius). */
+  int neighbours_k = 0;
   /** \brief The edge-swap optimization (when enabled). */
   meshless::EdgeSwapResult optimization;
   /** \brief Local folds of the raw triangulation, re-meshed away before the
@@ -95,8 +98,9 @@ struct SphericalMeshlessReport
   * component, Euler characteristic 2, normals pointing outward. The class checks
   * these invariants on its own result; if they do not hold (or a stage fails) it
   * logs PCL_ERROR with the cause and returns an empty mesh. Self-intersecting
-  * triangle pairs are counted too (getReport().mesh.self_intersecting_pairs),
-  * folds re-meshed, further base meshes tried; if pairs still remain the
+  * triangle pairs are counted too (getReport().mesh.self_intersecting_pairs; unless
+  * setCheckSelfIntersections (false)), folds re-meshed, and in sphere mode further
+  * base meshes and denser neighbourhoods tried; if pairs still remain the
   * reconstruction fails the same way, naming their number, unless
   * setAllowSelfIntersections (true) asks for such a mesh (returned with PCL_WARN:
   * the topology is guaranteed, the embedding of noisy or too thin parts is not).
@@ -112,7 +116,8 @@ struct SphericalMeshlessReport
   * With setTopology (Topology::Disc) the class reconstructs an open surface (a
   * partial scan, a face, terrain) instead: one boundary loop is found from the
   * points' Delaunay rings, mapped to a circle, and the whole cloud is one patch.
-  * The result is one manifold, consistently oriented disc through every point.
+  * The result is one manifold, consistently oriented disc through every point
+  * (self-intersections refused as above).
   * Inner boundary loops (holes) are kept open when they can be cut out cleanly;
   * otherwise the reconstruction stops with a message saying so.
   *
@@ -277,9 +282,11 @@ public:
 
   /** \brief Sphere topology: how many further base meshes (the next rotations and
     * polyhedra) to try when the result still intersects itself after the swaps and
-    * the repair; the result with the fewest intersecting pairs is kept. Each try
-    * costs about one more run, and only runs with pairs left make them. Ignored with
-    * a user base mesh. Default 2. */
+    * the repair; the result with the fewest intersecting pairs is kept. If pairs
+    * remain, the whole sequence runs once more on k + 2 nearest neighbours (not
+    * with a search radius; getReport ().neighbours_k says which k the result came
+    * from). Each try costs about one more run, and only runs with pairs left make
+    * them. 0 makes none of them; ignored with a user base mesh. Default 2. */
   inline void
   setBaseRetries (int retries)
   {
@@ -307,8 +314,9 @@ public:
 
   /** \brief Whether a mesh whose triangles still intersect each other in local
     * folds, after the repair and the retries, is returned (with PCL_WARN and the
-    * count in getReport ()) rather than refused. Default false: a success is then
-    * embedded as well as closed. The folds that remain come from parts thinner than
+    * count in getReport ()) rather than refused. Default false: with the check on
+    * (setCheckSelfIntersections, the default) a success is then free of
+    * self-intersections too. The folds that remain come from parts thinner than
     * the point spacing or from noise; a viewer or a volume estimate may well live
     * with a few. Without setCheckSelfIntersections nothing is counted, and nothing
     * refused. */

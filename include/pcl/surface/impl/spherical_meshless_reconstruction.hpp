@@ -261,9 +261,16 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                 std::to_string (n) + " points"}))
     return fail ("cancelled by the progress callback");
 
+  // The neighbourhoods the current run works with (a denser set may follow, see
+  // the retries below).
+  const meshless::CsrGraph* neighbours = &nb.neighbours;
+  meshless::Neighbourhoods denser;
+  report_.neighbours_k = radius_ > 0.0 ? 0 : k_;
+
   meshless::Triangles triangles;
   std::vector<Eigen::Vector3f> normals; // sphere mode: the oriented point normals
   meshless::SpherePipelineOptions sphere_options; // kept for a second attempt
+  meshless::SpherePipelineOptions first_options;  // the first run's, for a denser one
   if (sphere) {
     meshless::SpherePipelineOptions options;
     options.weights = weights_;
@@ -292,6 +299,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                                                  static_cast<int> (face.vertices[2])});
       }
     }
+    first_options = options;
     meshless::SphereTriangulation result =
         meshless::triangulateSphere (points, nb.neighbours, options);
     report_.stats = result.stats;
@@ -358,7 +366,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     const auto repair_start = std::chrono::steady_clock::now ();
     meshless::FoldRepairOptions repair_options;
     if (mesh_normals.size () == points.size ()) {
-      repair_options.neighbours = &nb.neighbours;
+      repair_options.neighbours = neighbours;
       repair_options.normals = &mesh_normals;
     }
     repair = meshless::repairFoldsByReinsertion (points, mesh_triangles, mesh.intersecting_pairs,
@@ -492,9 +500,12 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // checked; it replaces the result if it is valid, does not turn back and
   // intersects itself less. Returns the number of the attempt whose base mesh the
   // run used, or -1 if it found none.
-  auto tryAnother = [&] (const meshless::SpherePipelineOptions& options, bool& kept) {
+  auto tryAnother = [&] (const meshless::SpherePipelineOptions& options, bool& kept,
+                         meshless::SpherePipelineStats* stats = nullptr) {
     kept = false;
-    meshless::SphereTriangulation other = meshless::triangulateSphere (points, nb.neighbours, options);
+    meshless::SphereTriangulation other = meshless::triangulateSphere (points, *neighbours, options);
+    if (stats)
+      *stats = other.stats;
     if (!other.success)
       return -1;
     const int attempt = other.stats.base_attempt;
@@ -507,58 +518,96 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
       triangles = std::move (other.triangles);
       normals = std::move (other.normals);
       report_.stats = other.stats;
+      if (neighbours != &nb.neighbours)
+        report_.neighbours_k = k_ + 2;
       adopt (std::move (checked));
       kept = true;
     }
     return attempt;
   };
 
-  // Where the surface is thinner than the point spacing, kNN edges join its two
-  // sides and the patches fold there. If the result intersects itself, try again
-  // with those edges dropped (see meshless::buildSurfaceGraphs) and keep the result
-  // with fewer intersecting pairs, if it does not turn back; a failed second attempt
-  // changes nothing, and a cloud without such edges (counted by the first run) makes
-  // none. Also when the first result turns back: folds across thin parts can turn
-  // a genus-0 cloud's first mesh back over 8% of its area (measured: cow_igl's
-  // hooves and horns, depending on the order of the points), and a cloud with a
-  // handle or a boundary gets a second result that turns back too (rocker_arm,
-  // fertility, face_igl: rejected all the same, face_igl 0.3 s later). A second
-  // result that does not turn back is a sphere-like surface by the same test the
-  // first one failed, so the further base meshes below may then run; a layout that
-  // hid a handle behind a membrane would have to pass that test too.
-  if (sphere && report_.mesh.self_intersecting_pairs > 0 && report_.stats.thin_part_edges > 0) {
-    meshless::SpherePipelineOptions thin = sphere_options;
-    thin.separate_thin_sheets = true;
-    bool kept = false;
-    tryAnother (thin, kept);
-    if (kept) {
-      report_.thin_sheet_retry = true;
-      sphere_options = thin;
+  // The retries after a first run with `options` (statistics `first`) while its
+  // result intersects itself.
+  auto retrySequence = [&] (meshless::SpherePipelineOptions options,
+                            const meshless::SpherePipelineStats& first) {
+    // Where the surface is thinner than the point spacing, kNN edges join its two
+    // sides and the patches fold there. If the result intersects itself, try again
+    // with those edges dropped (see meshless::buildSurfaceGraphs) and keep the result
+    // with fewer intersecting pairs, if it does not turn back; a failed second attempt
+    // changes nothing, and a cloud without such edges (counted by the first run) makes
+    // none. Also when the first result turns back: folds across thin parts can turn
+    // a genus-0 cloud's first mesh back over 8% of its area (measured: cow_igl's
+    // hooves and horns, depending on the order of the points), and a cloud with a
+    // handle or a boundary gets a second result that turns back too (rocker_arm,
+    // fertility, face_igl: rejected all the same, face_igl 0.3 s later). A second
+    // result that does not turn back is a sphere-like surface by the same test the
+    // first one failed, so the further base meshes below may then run; a layout that
+    // hid a handle behind a membrane would have to pass that test too.
+    int last_attempt = first.base_attempt;
+    if (report_.mesh.self_intersecting_pairs > 0 && first.thin_part_edges > 0) {
+      meshless::SpherePipelineOptions thin = options;
+      thin.separate_thin_sheets = true;
+      bool kept = false;
+      meshless::SpherePipelineStats stats;
+      tryAnother (thin, kept, &stats);
+      if (kept) {
+        report_.thin_sheet_retry = true;
+        options = thin;
+        last_attempt = stats.base_attempt;
+      }
+    }
+
+    // Other base meshes cut the surface elsewhere, and a fold left by one layout may
+    // not form in another (measured: horse 5 -> 0 pairs with the next rotation).
+    // Further attempts of the same deterministic sequence, after the one the result
+    // came from; the result with the fewest pairs is kept. Not for a result that
+    // turns back (a handle or a boundary): another layout may hide the handle
+    // behind a membrane without intersecting itself (measured on rocker_arm), a
+    // genus-0 surface, but not a faithful one.
+    if (base_faces_.empty () && report_.mesh.self_intersecting_pairs > 0 && !turnsBack ()) {
+      for (int retry = 0; retry < base_retries_ && report_.mesh.self_intersecting_pairs > 0;
+           ++retry) {
+        meshless::SpherePipelineOptions next = options;
+        next.first_attempt = last_attempt + 1;
+        ++report_.base_retries;
+        bool kept = false;
+        last_attempt = tryAnother (next, kept);
+        report_.base_retry_kept |= kept;
+        if (last_attempt < 0)
+          break;
+      }
+    }
+  };
+  if (sphere)
+    retrySequence (sphere_options, report_.stats);
+
+  // Folds left after all of that: the same sequence once more on the k + 2
+  // nearest neighbours (the first base mesh, the thin-part run, further base
+  // meshes), kept where it leaves fewer pairs. Where a part is only a few points
+  // across, k neighbours may leave a point's ring one-sided or spanning the part;
+  // two more close it (measured: a 1:1:20 ellipsoid sample 6 -> 0 pairs, a 93%
+  // subset of bunny_igl 4 -> 0). Costs up to as many runs again, only on clouds
+  // that would otherwise keep their pairs.
+  if (sphere && base_faces_.empty () && radius_ == 0.0 && base_retries_ > 0 &&
+      report_.mesh.self_intersecting_pairs > 0 && !turnsBack () &&
+      static_cast<std::size_t> (k_) + 2 < n) {
+    const auto denser_start = std::chrono::steady_clock::now ();
+    neighbourhood.k = k_ + 2;
+    denser = meshless::searchNeighbourhoods (*tree_, cloud_indices, neighbourhood);
+    if (denser.success && denser.num_empty == 0) {
+      if (!record ({"neighbourhoods", 0.02,
+                    std::chrono::duration<double> (std::chrono::steady_clock::now () - denser_start)
+                        .count (),
+                    std::to_string (n) + " points, k = " + std::to_string (k_ + 2)}))
+        return fail ("cancelled by the progress callback");
+      neighbours = &denser.neighbours;
+      meshless::SpherePipelineStats stats;
+      bool kept = false;
+      if (tryAnother (first_options, kept, &stats) >= 0)
+        retrySequence (first_options, stats);
     }
   }
 
-  // Other base meshes cut the surface elsewhere, and a fold left by one layout may
-  // not form in another (measured: horse 5 -> 0 pairs with the next rotation).
-  // Further attempts of the same deterministic sequence, after the one the result
-  // came from; the result with the fewest pairs is kept. Not for a result that
-  // turns back (a handle or a boundary): another layout may hide the handle
-  // behind a membrane without intersecting itself (measured on rocker_arm), a
-  // genus-0 surface, but not a faithful one.
-  if (sphere && base_faces_.empty () && report_.mesh.self_intersecting_pairs > 0 &&
-      !turnsBack ()) {
-    int last_attempt = report_.stats.base_attempt;
-    for (int retry = 0; retry < base_retries_ && report_.mesh.self_intersecting_pairs > 0;
-         ++retry) {
-      meshless::SpherePipelineOptions next = sphere_options;
-      next.first_attempt = last_attempt + 1;
-      ++report_.base_retries;
-      bool kept = false;
-      last_attempt = tryAnother (next, kept);
-      report_.base_retry_kept |= kept;
-      if (last_attempt < 0)
-        break;
-    }
-  }
   // A small cloud whose mesh still intersects itself (its neighbourhoods span
   // much of it): if every point lies on the convex hull, the hull is the closed
   // surface through them, free of intersections.
@@ -591,9 +640,10 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                  "spacing: sample them more densely; or far outliers: remove them)");
   if (report_.mesh.self_intersecting_pairs > 0 && !allow_self_intersections_)
     return fail (std::to_string (report_.mesh.self_intersecting_pairs) +
-                 " pair(s) of triangles still intersect each other in local folds after the "
-                 "repair and the retries (parts thinner than the point spacing, or noise): "
-                 "the mesh is " + (sphere ? "closed" : "manifold") +
+                 " pair(s) of triangles still intersect each other after the repair" +
+                 (sphere ? " and the retries, in local folds" : "") +
+                 " (parts thinner than the point spacing, or noise): the mesh is " +
+                 (sphere ? "closed" : "manifold") +
                  " but not embedded (setAllowSelfIntersections (true) returns it anyway; "
                  "more neighbours or a denser sample may avoid the folds)");
   if (report_.mesh.self_intersecting_pairs > 0)
