@@ -543,7 +543,7 @@ public:
     if (lu.info () != Eigen::Success)
       return {};
     const Eigen::MatrixX2d solution = lu.solve (rhs);
-    if (lu.info () != Eigen::Success || !solution.allFinite () ||
+    if (!solution.allFinite () ||
         (system * solution - rhs).norm () > 1e-9 * std::max (1.0, rhs.norm ()))
       return {};
     Points2 uv (m + ni);

@@ -48,31 +48,25 @@ settleRegionsByConsensus (const Points3& points,
                           std::vector<char>& flip)
 {
   const std::size_t n = points.size ();
+  // Whether the signs of v and w agree as their normals do.
   const auto agree = [&] (pcl::index_t v, pcl::index_t w) {
     return (normals[v].dot (normals[w]) > 0.0f) == (flip[v] == flip[w]);
   };
-  std::vector<pcl::index_t> region (n, -1), stack;
-  std::vector<std::size_t> region_size;
+  // Regions: the components of the confident mutual edges whose signs agree.
+  CsrGraph settled_edges;
+  settled_edges.offsets.assign (n + 1, 0);
   for (std::size_t v = 0; v < n; ++v) {
-    if (region[v] >= 0)
-      continue;
-    const auto label = static_cast<pcl::index_t> (region_size.size ());
-    region[v] = label;
-    stack.assign (1, static_cast<pcl::index_t> (v));
-    std::size_t size = 0;
-    while (!stack.empty ()) {
-      const pcl::index_t x = stack.back ();
-      stack.pop_back ();
-      ++size;
-      for (const pcl::index_t* w = mutual.begin (x); w != mutual.end (x); ++w)
-        if (region[*w] < 0 && agree (x, *w) && confidence (points, normals, x, *w) > region_confidence) {
-          region[*w] = label;
-          stack.push_back (*w);
-        }
-    }
-    region_size.push_back (size);
+    for (const pcl::index_t* w = mutual.begin (v); w != mutual.end (v); ++w)
+      if (agree (static_cast<pcl::index_t> (v), *w) &&
+          confidence (points, normals, static_cast<pcl::index_t> (v), *w) > region_confidence)
+        settled_edges.adjacency.push_back (*w);
+    settled_edges.offsets[v + 1] = static_cast<pcl::index_t> (settled_edges.adjacency.size ());
   }
-  const std::size_t regions = region_size.size ();
+  std::vector<pcl::index_t> region;
+  const std::size_t regions = connectedComponents (settled_edges, region);
+  std::vector<std::size_t> region_size (regions, 0);
+  for (const pcl::index_t r : region)
+    ++region_size[r];
 
   // Sum of votes per pair of regions: > 0 keep their present relative sign.
   struct Vote
