@@ -96,7 +96,8 @@ buildMeshlessSystem (const Weights& weights,
 
 enum class SparseSolver
 {
-  /** Eigen::SparseLU with COLAMD ordering: direct, robust, default. */
+  /** Eigen::SparseLU on the matrix ordered symmetrically by AMD (on the pattern
+    * of A + A^T), diagonal pivots preferred: direct, robust, default. */
   SparseLU,
   /** Eigen::BiCGSTAB with an incomplete LU (ILUT) preconditioner. */
   BiCGSTAB
