@@ -528,6 +528,10 @@ public:
     for (std::size_t t = 0; t < tri_.size (); ++t)
       grid_->insert (static_cast<std::int32_t> (t), box_[t]);
     marks_ = std::make_unique<Marks> (tri_.size ());
+    partners_.assign (tri_.size (), 0);
+    intersections_ = 0;
+    if (options_.input_free_of_intersections)
+      return 0;
 
     // Every pair once (the partner with the larger slot is tested from the smaller),
     // the slots split among the threads; the pairs are few, so they are collected per
@@ -549,7 +553,6 @@ public:
 #pragma omp critical(meshless_edge_swap_pairs)
       found.insert (found.end (), own.begin (), own.end ());
     }
-    partners_.assign (tri_.size (), 0);
     for (const auto& [s, x] : found) {
       ++partners_[s];
       ++partners_[x];

@@ -280,14 +280,20 @@ solveMeshlessSystem (const MeshlessSystem& system,
     // permute columns only, which moves the diagonal off and makes it pivot), the
     // factors fill far less: on a 205,102-unknown patch of the 1M armadillo, L + U
     // 27.7M -> 11.3M nonzeros, 1.58 -> 0.54 s, with the same residual (3e-15).
-    const Eigen::SparseMatrix<double> column_major = system.matrix;
-    const Eigen::SparseMatrix<double> pattern =
-        column_major + Eigen::SparseMatrix<double> (column_major.transpose ());
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
-    Eigen::AMDOrdering<int> () (pattern, order);
-    const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> to_ordered = order.inverse ();
+    // The copies made on the way are freed before the factorization, which sets
+    // the peak memory of large clouds.
+    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order, to_ordered;
     Eigen::SparseMatrix<double> ordered;
-    ordered = column_major.twistedBy (to_ordered);
+    {
+      const Eigen::SparseMatrix<double> column_major = system.matrix;
+      {
+        const Eigen::SparseMatrix<double> pattern =
+            column_major + Eigen::SparseMatrix<double> (column_major.transpose ());
+        Eigen::AMDOrdering<int> () (pattern, order);
+      }
+      to_ordered = order.inverse ();
+      ordered = column_major.twistedBy (to_ordered);
+    }
     Eigen::SparseLU<Eigen::SparseMatrix<double>, Eigen::NaturalOrdering<int>> lu;
     lu.isSymmetric (true);
     // A row swaps in only where the diagonal falls below 1% of its column.

@@ -573,6 +573,36 @@ TEST (EdgeSwap, IntersectionCountsMatchCheckMesh)
   }
 }
 
+TEST (EdgeSwap, InputKnownFreeOfIntersectionsSkipsOnlyTheFirstCount)
+{
+  // Without pairs, trusting the caller changes nothing; with pairs, the skipped
+  // count is missing (the promise was wrong), which is why the class makes it
+  // only after checkMesh and the fold repair have counted none.
+  EdgeSwapOptions counting, trusting;
+  trusting.input_free_of_intersections = true;
+  Points3 points;
+  Triangles triangles;
+  shakenSphere (3, 0.03, 11, points, triangles);
+  ASSERT_EQ (checkMesh (points, triangles).self_intersecting_pairs, 0u);
+  Triangles counted = triangles, trusted = triangles;
+  const EdgeSwapResult a = optimizeBySwaps (points, counted, counting);
+  const EdgeSwapResult b = optimizeBySwaps (points, trusted, trusting);
+  ASSERT_TRUE (a.success && b.success);
+  EXPECT_GT (a.swaps, 0u);
+  EXPECT_EQ (counted, trusted);
+  EXPECT_EQ (a.swaps, b.swaps);
+  EXPECT_EQ (b.self_intersections_after, 0u);
+
+  shakenSphere (3, 0.12, 11, points, triangles);
+  counted = trusted = triangles;
+  const EdgeSwapResult c = optimizeBySwaps (points, counted, counting);
+  const EdgeSwapResult d = optimizeBySwaps (points, trusted, trusting);
+  ASSERT_TRUE (c.success && d.success);
+  EXPECT_GT (c.self_intersections_before, 100u);
+  EXPECT_EQ (d.self_intersections_before, 0u);
+  EXPECT_TRUE (checkMesh (points, trusted).isSphereLike ());
+}
+
 TEST (EdgeSwap, SameResultForAnyThreadCount)
 {
   Points3 points;
