@@ -60,13 +60,20 @@ public:
   : points_ (points), triangles_ (triangles), inverse_cell_ (1.0 / cell),
     mark_ (triangles.size (), 0)
   {
-    for (const pcl::index_t v : seeds) {
-      const Vec3 r = Vec3::Constant (reach * cell);
-      forRange (rangeOf (points[v] - r, points[v] + r), [&] (const Cell& c) {
+    // Seeds in one cell keep the same cells: each range once (a fold's vertices
+    // share cells; on the 1M armadillo 4,212 seeds each kept 4,913 cells).
+    const Vec3 r = Vec3::Constant (reach * cell);
+    std::vector<std::pair<Cell, Cell>> ranges;
+    ranges.reserve (seeds.size ());
+    for (const pcl::index_t v : seeds)
+      ranges.push_back (rangeOf (points[v] - r, points[v] + r));
+    std::sort (ranges.begin (), ranges.end ());
+    ranges.erase (std::unique (ranges.begin (), ranges.end ()), ranges.end ());
+    for (const auto& range : ranges)
+      forRange (range, [&] (const Cell& c) {
         if (cells_.emplace (keyOf (c), std::vector<std::int32_t> ()).second)
           kept_.push_back (c);
       });
-    }
     for (std::size_t t = 0; t < triangles.size (); ++t)
       insert (static_cast<std::int32_t> (t));
   }
