@@ -286,11 +286,7 @@ solveMeshlessSystem (const MeshlessSystem& system,
     Eigen::SparseMatrix<double> ordered;
     {
       const Eigen::SparseMatrix<double> column_major = system.matrix;
-      {
-        const Eigen::SparseMatrix<double> pattern =
-            column_major + Eigen::SparseMatrix<double> (column_major.transpose ());
-        Eigen::AMDOrdering<int> () (pattern, order);
-      }
+      Eigen::AMDOrdering<int> () (column_major, order); // orders the pattern of A + A^T
       to_ordered = order.inverse ();
       ordered = column_major.twistedBy (to_ordered);
     }
