@@ -431,7 +431,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
                               raw_repair.pairs_before == raw.self_intersecting_pairs &&
                               raw_repair.pairs_after == 0;
         swap_options.input_free_of_intersections =
-            raw.self_intersecting_pairs == 0 || repaired;
+            raw.self_intersections_checked && (raw.self_intersecting_pairs == 0 || repaired);
       }
       const auto optimize_start = std::chrono::steady_clock::now ();
       optimization = meshless::optimizeBySwaps (points, mesh_triangles, swap_options);
