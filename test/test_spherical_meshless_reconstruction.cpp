@@ -428,6 +428,10 @@ TEST (SphericalMeshlessReconstruction, PairsLeftFailUnlessAllowed)
   expectClosedGenusZero (kept, range (allowed.num_points));
   if (allowed.mesh.self_intersecting_pairs == 0)
     GTEST_SKIP () << "the first base mesh leaves no pairs any more: nothing to refuse";
+  // Pairs the raw repair left are counted by the swaps (they are told that the mesh
+  // is free of pairs only where it is).
+  if (allowed.raw_fold_repair.pairs_before > 0)
+    EXPECT_EQ (allowed.optimization.self_intersections_before, allowed.raw_fold_repair.pairs_after);
 
   reconstruction.setAllowSelfIntersections (false);
   pcl::PolygonMesh refused;
@@ -466,6 +470,10 @@ TEST (SphericalMeshlessReconstruction, RawFoldsAreRepairedBeforeTheSwaps)
     GTEST_SKIP () << "the raw triangulation does not fold any more: nothing to repair first";
   EXPECT_LT (repaired.raw_fold_repair.pairs_after, repaired.raw_fold_repair.pairs_before);
   EXPECT_GT (repaired.raw_fold_repair.regions_remeshed, 0u);
+  // The swaps start from what the repair left: counted by the swaps themselves
+  // where pairs are left, taken as 0 (not counted again) where none are.
+  EXPECT_EQ (repaired.optimization.self_intersections_before,
+             repaired.raw_fold_repair.pairs_after);
   const auto raw_repair_stage = std::find (stages.begin (), stages.end (), "repair raw");
   ASSERT_NE (raw_repair_stage, stages.end ());
   EXPECT_LT (raw_repair_stage - stages.begin (),
