@@ -50,10 +50,39 @@ boxOf (const Points3& p, const Triangle& t)
   return b;
 }
 
-bool
-overlap (const Box& a, const Box& b)
+/** A box in single precision, rounded outward so that it contains the box it was
+  * made from: half the memory of a Box per triangle slot (2 million slots on a
+  * million points), and a query against it misses nothing the exact box would find. */
+struct CompactBox
 {
-  return (a.lo.array () <= b.hi.array ()).all () && (b.lo.array () <= a.hi.array ()).all ();
+  Eigen::Vector3f lo, hi;
+
+  CompactBox () = default;
+
+  explicit CompactBox (const Box& box)
+  {
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = static_cast<float> (box.lo[k]);
+      if (static_cast<double> (lo[k]) > box.lo[k])
+        lo[k] = std::nextafter (lo[k], -std::numeric_limits<float>::infinity ());
+      hi[k] = static_cast<float> (box.hi[k]);
+      if (static_cast<double> (hi[k]) < box.hi[k])
+        hi[k] = std::nextafter (hi[k], std::numeric_limits<float>::infinity ());
+    }
+  }
+
+  Box
+  widened () const
+  {
+    return {lo.cast<double> (), hi.cast<double> ()};
+  }
+};
+
+bool
+overlap (const Box& a, const CompactBox& b)
+{
+  return (a.lo.array () <= b.hi.cast<double> ().array ()).all () &&
+         (b.lo.cast<double> ().array () <= a.hi.array ()).all ();
 }
 
 /** Sorts (key, value) pairs by key, stably (LSD radix sort, 11 bits a pass, as many
@@ -512,7 +541,6 @@ public:
     length = edge_he_.empty () ? 1.0 : length / static_cast<double> (edge_he_.size ());
     axis_.resize (tri_.size ());
     box_.resize (tri_.size ());
-    plane_.resize (tri_.size ());
     grid_ = std::make_unique<TriangleGrid> (tri_.size (), tri_.empty () ? Vec3::Zero () : p_[tri_[0][0]],
                                             1.5 * std::max (length, 1e-300));
     // The per-triangle data in parallel, the grid entries in order.
@@ -522,11 +550,10 @@ public:
       Slot slot;
       prepare (tri_[t], slot, true); // every axis now: the parallel queries only read
       axis_[t] = static_cast<std::int8_t> (slot.axis);
-      box_[t] = slot.box;
-      plane_[t] = slot.plane;
+      box_[t] = CompactBox (slot.box);
     }
     for (std::size_t t = 0; t < tri_.size (); ++t)
-      grid_->insert (static_cast<std::int32_t> (t), box_[t]);
+      grid_->insert (static_cast<std::int32_t> (t), box_[t].widened ());
     marks_ = std::make_unique<Marks> (tri_.size ());
     partners_.assign (tri_.size (), 0);
     intersections_ = 0;
@@ -1149,7 +1176,7 @@ private:
         Slot& s = pending_.slot[k];
         const Triangle& t = pending_.triangle[k];
         if (s.axis != -1 && overlap (s.box, box_[x]) && !s.plane.separates (p_, t, tri_[x]) &&
-            !plane_[x].separates (p_, tri_[x], t) && exactAxis (t, s) >= 0 &&
+            !slotPlane (x).separates (p_, tri_[x], t) && exactAxis (t, s) >= 0 &&
             slotAxis (x) >= 0 && trianglesIntersect (p_, t, s.axis, tri_[x], axis_[x]))
           ++after;
       }
@@ -1212,9 +1239,19 @@ private:
   place (std::int32_t t, const Slot& slot)
   {
     axis_[t] = static_cast<std::int8_t> (slot.axis);
-    grid_->move (t, box_[t], slot.box);
-    box_[t] = slot.box;
-    plane_[t] = slot.plane;
+    const CompactBox box (slot.box);
+    grid_->move (t, box_[t].widened (), box.widened ());
+    box_[t] = box;
+  }
+
+  /** The plane filter of slot t's triangle. Made when asked, not kept per slot (72
+    * bytes each, 144 MB on a million points): only candidates whose box overlaps and
+    * which the other plane did not settle need it. */
+  PlaneFilter
+  slotPlane (std::int32_t t) const
+  {
+    const Triangle& x = tri_[t];
+    return PlaneFilter (p_[x[0]], p_[x[1]], p_[x[2]]);
   }
 
   /** Calls visit (x) for the triangles x of the mesh for which consider (x) holds
@@ -1232,7 +1269,7 @@ private:
     const PlaneFilter plane (p_[t[0]], p_[t[1]], p_[t[2]]);
     grid_->forCandidates (box, marks, consider, [&] (std::int32_t x) {
       if (axis_[x] != -1 && overlap (box, box_[x]) &&
-          !plane.separates (p_, t, tri_[x]) && !plane_[x].separates (p_, tri_[x], t) &&
+          !plane.separates (p_, t, tri_[x]) && !slotPlane (x).separates (p_, tri_[x], t) &&
           axis_of (x) >= 0 && trianglesIntersect (p_, t, axis, tri_[x], axis_[x]))
         visit (x);
     });
@@ -1423,8 +1460,7 @@ private:
     std::array<Slot, 2> slot;
   } pending_;
   std::vector<std::int8_t> axis_;
-  std::vector<Box> box_;
-  std::vector<PlaneFilter> plane_;
+  std::vector<CompactBox> box_;
   /** Per triangle slot: the number of triangles it intersects. */
   std::vector<std::int32_t> partners_;
   std::size_t intersections_ = 0;
@@ -1453,24 +1489,36 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     }
   try {
     // Work on a copy so that no failure can leave a half-done mesh behind, with the
-    // used vertices renumbered in the order the triangles first use them. Clouds come
-    // in any order (armadillo_uniform_1m's is random), the triangles of the pipeline in
-    // patch order: numbered so, neighbours sit close in memory, and the optimizer
-    // took 30% less time on that cloud (every step reads the points of a
-    // neighbourhood).
-    std::vector<pcl::index_t> renumbered (points.size (), -1), original;
-    Triangles work = triangles;
-    for (Triangle& t : work)
-      for (pcl::index_t& v : t) {
-        if (renumbered[v] < 0) {
-          renumbered[v] = static_cast<pcl::index_t> (original.size ());
-          original.push_back (v);
+    // used vertices renumbered in the order the triangles first use them unless the
+    // caller's order is coherent already (EdgeSwapOptions::renumber_vertices).
+    std::vector<char> used (points.size (), 0);
+    std::size_t num_used = 0;
+    for (const Triangle& t : triangles)
+      for (const pcl::index_t v : t)
+        if (!used[v]) {
+          used[v] = 1;
+          ++num_used;
         }
-        v = renumbered[v];
-      }
-    Points3 local (original.size ());
-    for (std::size_t v = 0; v < original.size (); ++v)
-      local[v] = points[original[v]];
+    std::vector<char> ().swap (used);
+    const bool renumber = options.renumber_vertices || num_used != points.size ();
+    std::vector<pcl::index_t> original;
+    Triangles work = triangles;
+    Points3 renumbered_points;
+    if (renumber) {
+      std::vector<pcl::index_t> renumbered (points.size (), -1);
+      for (Triangle& t : work)
+        for (pcl::index_t& v : t) {
+          if (renumbered[v] < 0) {
+            renumbered[v] = static_cast<pcl::index_t> (original.size ());
+            original.push_back (v);
+          }
+          v = renumbered[v];
+        }
+      renumbered_points.resize (original.size ());
+      for (std::size_t v = 0; v < original.size (); ++v)
+        renumbered_points[v] = points[original[v]];
+    }
+    const Points3& local = renumber ? renumbered_points : points;
     Optimizer optimizer (local, work, options);
     if (!optimizer.build ()) {
       result.message = optimizer.message ();
@@ -1504,9 +1552,10 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     result.cost_after = optimizer.totalCost ();
     result.self_intersections_after = optimizer.intersections ();
     result.swaps = optimizer.swaps ();
-    for (Triangle& t : work)
-      for (pcl::index_t& v : t)
-        v = original[v];
+    if (renumber)
+      for (Triangle& t : work)
+        for (pcl::index_t& v : t)
+          v = original[v];
     triangles.swap (work);
     result.success = true;
   }

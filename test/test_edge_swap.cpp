@@ -605,6 +605,56 @@ TEST (EdgeSwap, InputKnownFreeOfIntersectionsSkipsOnlyTheFirstCount)
   EXPECT_TRUE (checkMesh (points, trusted).isSphereLike ());
 }
 
+TEST (EdgeSwap, PointsInFirstUseOrderNeedNoRenumbering)
+{
+  Points3 shaken;
+  Triangles shaken_triangles;
+  shakenSphere (3, 0.12, 11, shaken, shaken_triangles);
+  // The same mesh with its points numbered in the order the triangles first use
+  // them, the numbering the optimizer makes for itself: without renumbering it must
+  // do exactly the same, on the caller's points.
+  std::vector<pcl::index_t> renumbered (shaken.size (), -1);
+  Points3 points;
+  Triangles triangles = shaken_triangles;
+  for (Triangle& t : triangles)
+    for (pcl::index_t& v : t) {
+      if (renumbered[v] < 0) {
+        renumbered[v] = static_cast<pcl::index_t> (points.size ());
+        points.push_back (shaken[v]);
+      }
+      v = renumbered[v];
+    }
+  ASSERT_EQ (points.size (), shaken.size ());
+  EdgeSwapOptions renumbering, in_place;
+  in_place.renumber_vertices = false;
+  Triangles a = triangles, b = triangles;
+  const EdgeSwapResult ra = optimizeBySwaps (points, a, renumbering);
+  const EdgeSwapResult rb = optimizeBySwaps (points, b, in_place);
+  ASSERT_TRUE (ra.success && rb.success);
+  EXPECT_GT (ra.swaps, 0u);
+  EXPECT_EQ (a, b);
+  EXPECT_EQ (ra.swaps, rb.swaps);
+  EXPECT_EQ (ra.self_intersections_before, rb.self_intersections_before);
+
+  // In any other order the result is as valid, with the same counts as checkMesh.
+  Triangles c = shaken_triangles;
+  const EdgeSwapResult rc = optimizeBySwaps (shaken, c, in_place);
+  ASSERT_TRUE (rc.success);
+  const MeshReport report = checkMesh (shaken, c);
+  EXPECT_TRUE (report.isSphereLike ());
+  EXPECT_EQ (rc.self_intersections_after, report.self_intersecting_pairs);
+  EXPECT_LT (rc.cost_after, rc.cost_before);
+
+  // A point no triangle uses: renumbered all the same (the optimizer works on used
+  // vertices only), so the result is the renumbering one's.
+  Points3 with_unused = points;
+  with_unused.push_back (Eigen::Vector3d (5.0, 5.0, 5.0));
+  Triangles d = triangles;
+  const EdgeSwapResult rd = optimizeBySwaps (with_unused, d, in_place);
+  ASSERT_TRUE (rd.success) << rd.message;
+  EXPECT_EQ (d, a);
+}
+
 TEST (EdgeSwap, SameResultForAnyThreadCount)
 {
   Points3 points;

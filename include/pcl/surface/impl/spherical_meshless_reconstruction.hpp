@@ -417,6 +417,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
       // same as without optimization.
       // Where that check and repair leave no pair, the swaps need not count again.
       meshless::EdgeSwapOptions swap_options = swap_options_;
+      swap_options.renumber_vertices = false; // the points follow a Z-order curve (above)
       if (sphere && check_self_intersections_) {
         const auto raw_start = std::chrono::steady_clock::now ();
         const meshless::MeshReport raw = meshless::checkMesh (points, mesh_triangles, check);
