@@ -157,6 +157,53 @@ TEST (Parameterization, LinearPrecisionOnAPlaneWithItsOwnBoundary)
     }
 }
 
+TEST (Parameterization, SingleFactorsAreRefinedToDoublePrecision)
+{
+  // The direct solver factors in single precision (half the memory of the values)
+  // and refines in double: the residual is that of double factors, not float's 1e-7.
+  const PlanarPatch patch = planarPatch (48, 40, 6);
+  const Weights weights = patchWeights (patch.points, WeightType::MeanValue);
+  const Points2 uv = circleBoundary (patch.points, patch.loop);
+  const MeshlessSystem system = buildMeshlessSystem (weights, patch.all, patch.loop, uv);
+  ASSERT_TRUE (system.success) << system.message;
+  const Parameterization result = solveMeshlessSystem (system, patch.all, patch.loop, uv);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_LT (result.residual, 1e-13);
+  EXPECT_FALSE (result.double_precision_factors);
+  EXPECT_GE (result.iterations, 1) << "refinement steps";
+}
+
+TEST (Parameterization, TooIllConditionedForSingleFactorsIsSolvedInDouble)
+{
+  // Two interior points that lean on each other with weight 1 - 1e-9 and on the
+  // boundary with 1e-9: rounded to single precision the matrix is singular; in
+  // double its condition number is about 1e9 and the solution well defined (to a
+  // relative residual of about 1e-7: the tolerance is loosened to that).
+  const double share = 1e-9, lean = 1.0 - share;
+  MeshlessSystem system;
+  system.success = true;
+  system.matrix.resize (2, 2);
+  std::vector<Eigen::Triplet<double>> entries{{0, 0, 1.0}, {0, 1, -lean}, {1, 0, -lean}, {1, 1, 1.0}};
+  system.matrix.setFromTriplets (entries.begin (), entries.end ());
+  const Points2 uv{{1.0, 0.0}, {-0.5, 0.8}, {-0.5, -0.8}};
+  system.rhs.resize (2, 2);
+  system.rhs.row (0) = share * uv[0].transpose ();
+  system.rhs.row (1) = share * uv[1].transpose ();
+  system.interior = {3, 4};
+  system.unknown_of = {-1, -1, -1, 0, 1};
+  const std::vector<pcl::index_t> points{0, 1, 2, 3, 4}, loop{0, 1, 2};
+  SolveOptions options;
+  options.tolerance = 1e-6;
+  const Parameterization result = solveMeshlessSystem (system, points, loop, uv, options);
+  ASSERT_TRUE (result.success) << result.message;
+  const Eigen::Matrix2d dense = Eigen::MatrixXd (system.matrix);
+  const Eigen::MatrixX2d exact = dense.fullPivLu ().solve (system.rhs);
+  EXPECT_LT ((result.uv[3] - exact.row (0).transpose ()).norm (), 1e-6);
+  EXPECT_LT ((result.uv[4] - exact.row (1).transpose ()).norm (), 1e-6);
+  EXPECT_LE (result.residual, 1e-6);
+  EXPECT_TRUE (result.double_precision_factors);
+}
+
 TEST (Parameterization, InteriorPointsLandStrictlyInsideTheCircle)
 {
   const PlanarPatch patch = planarPatch (40, 30, 3);

@@ -121,8 +121,13 @@ struct Parameterization : StageStatus
   Points2 uv;
   /** \brief Relative residual |A x - b| / |b| of the solution, both coordinates. */
   double residual = 0.0;
-  /** \brief Iterations of the iterative solver (0 for the direct one). */
+  /** \brief Iterations of the iterative solver; for the direct one, the steps that
+    * refined its solution in double precision. */
   int iterations = 0;
+  /** \brief Whether the direct solver factored in double precision: its single
+    * precision factors (the default, for memory) failed or did not refine to the
+    * tolerance, on a matrix too ill-conditioned for them. */
+  bool double_precision_factors = false;
 };
 
 /** \brief Solve a system built by buildMeshlessSystem.
