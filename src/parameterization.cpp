@@ -347,6 +347,9 @@ solveMeshlessSystem (const MeshlessSystem& system,
       ordered = column_major.twistedBy (order.inverse ());
     }
     const double target = std::max (options.tolerance, 1e-8);
+    std::unique_lock<std::mutex> exclusive;
+    if (options.factorization_lock && static_cast<std::size_t> (unknowns) >= options.exclusive_from)
+      exclusive = std::unique_lock<std::mutex> (*options.factorization_lock);
     std::string problem;
     if (!factorAndRefine<float> (system, ordered, order, target, solution, result.iterations,
                                  problem)) {

@@ -13,6 +13,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <mutex>
+#include <numeric>
 #include <random>
 
 namespace pcl {
@@ -205,10 +207,23 @@ triangulateSphere (const Points3& points,
     patch_rings.candidates = &graph;
     patch_rings.normals = &ordered.normals;
     patch_rings.weights.type = options.weights;
+    // One large set of LU factors at a time (SolveOptions::factorization_lock), the
+    // largest patches first so that the small ones fill the waits. Measured on
+    // armadillo_uniform_1m with two threads: the stage's peak 866 -> 779 MB, its
+    // time 2.5 -> 2.9 s.
+    std::mutex factorization;
+    SolveOptions solve = options.solve;
+    solve.factorization_lock = &factorization;
+    std::vector<std::size_t> largest_first (faces);
+    std::iota (largest_first.begin (), largest_first.end (), std::size_t {0});
+    std::stable_sort (largest_first.begin (), largest_first.end (), [&] (std::size_t a, std::size_t b) {
+      return split.patches[a].points.size () > split.patches[b].points.size ();
+    });
 #pragma omp parallel for schedule(dynamic, 1)
-    for (std::ptrdiff_t f = 0; f < static_cast<std::ptrdiff_t> (faces); ++f)
-      triangulated[f] =
-          triangulatePatch (points, weights, split.patches[f], options.solve, &patch_rings);
+    for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t> (faces); ++k) {
+      const std::size_t f = largest_first[k];
+      triangulated[f] = triangulatePatch (points, weights, split.patches[f], solve, &patch_rings);
+    }
     std::vector<Triangles> patch_triangles;
     bool all_patches = true;
     stats.smallest_parameter_edge = 1.0;

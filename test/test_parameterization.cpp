@@ -8,6 +8,9 @@
 #include "test_support.h"
 
 #include <algorithm>
+#include <chrono>
+#include <future>
+#include <mutex>
 #include <cmath>
 #include <numeric>
 #include <random>
@@ -202,6 +205,36 @@ TEST (Parameterization, TooIllConditionedForSingleFactorsIsSolvedInDouble)
   EXPECT_LT ((result.uv[4] - exact.row (1).transpose ()).norm (), 1e-6);
   EXPECT_LE (result.residual, 1e-6);
   EXPECT_TRUE (result.double_precision_factors);
+}
+
+TEST (Parameterization, LargeFactorizationsWaitForTheLock)
+{
+  const PlanarPatch patch = planarPatch (40, 30, 7);
+  const Weights weights = patchWeights (patch.points, WeightType::MeanValue);
+  const Points2 uv = circleBoundary (patch.points, patch.loop);
+  const MeshlessSystem system = buildMeshlessSystem (weights, patch.all, patch.loop, uv);
+  ASSERT_TRUE (system.success) << system.message;
+  std::mutex lock;
+  SolveOptions options;
+  options.factorization_lock = &lock;
+  const auto solveAside = [&] () {
+    return std::async (std::launch::async, [&] () {
+      return solveMeshlessSystem (system, patch.all, patch.loop, uv, options);
+    });
+  };
+  std::unique_lock<std::mutex> held (lock);
+  // Below exclusive_from (the default 50,000 unknowns) the lock is not taken.
+  auto small = solveAside ();
+  ASSERT_EQ (small.wait_for (std::chrono::seconds (60)), std::future_status::ready);
+  EXPECT_TRUE (small.get ().success);
+  // At or above it the solve waits while another holds the lock ...
+  options.exclusive_from = 1;
+  auto large = solveAside ();
+  EXPECT_EQ (large.wait_for (std::chrono::milliseconds (300)), std::future_status::timeout);
+  // ... and goes on once it is free.
+  held.unlock ();
+  ASSERT_EQ (large.wait_for (std::chrono::seconds (60)), std::future_status::ready);
+  EXPECT_TRUE (large.get ().success);
 }
 
 TEST (Parameterization, InteriorPointsLandStrictlyInsideTheCircle)

@@ -9,6 +9,8 @@
 
 #include <Eigen/SparseCore>
 
+#include <mutex>
+
 namespace pcl {
 namespace meshless {
 
@@ -112,6 +114,14 @@ struct SolveOptions
   double tolerance = 1e-10;
   /** \brief Iteration cap of the iterative solver. Default 5000. */
   int max_iterations = 5000;
+  /** \brief Default: nullptr. A lock held while the LU factors of a system with at
+    * least `exclusive_from` unknowns exist, for callers that solve patches in
+    * parallel: the factors are the largest data of a large cloud, and one set at a
+    * time keeps the peak down while the other threads build systems and
+    * triangulate (the pipeline passes one; see triangulateSphere). */
+  std::mutex* factorization_lock = nullptr;
+  /** \brief Default: 50000 unknowns; smaller factors are made without the lock. */
+  std::size_t exclusive_from = 50000;
 };
 
 /** \brief Parameter points of one patch. */
