@@ -52,7 +52,6 @@ loopEdgeLengths (const Points3& points, const std::vector<pcl::index_t>& loop)
 template <typename Scalar>
 bool
 factorAndRefine (const MeshlessSystem& system,
-                 const Eigen::SparseMatrix<double>& ordered,
                  const Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>& order,
                  double target,
                  Eigen::MatrixX2d& solution,
@@ -64,8 +63,17 @@ factorAndRefine (const MeshlessSystem& system,
   lu.isSymmetric (true);
   // A row swaps in only where the diagonal falls below 1% of its column.
   lu.setPivotThreshold (Scalar (0.01));
+  const auto to_ordered = order.inverse ();
   {
-    const Eigen::SparseMatrix<Scalar> factored = ordered.template cast<Scalar> ();
+    // Only the matrix in Scalar is left when the factorization starts (the copies
+    // on the way count towards the peak of large clouds).
+    Eigen::SparseMatrix<Scalar> factored;
+    {
+      const Eigen::SparseMatrix<double> column_major = system.matrix;
+      Eigen::SparseMatrix<double> ordered;
+      ordered = column_major.twistedBy (to_ordered);
+      factored = ordered.template cast<Scalar> ();
+    }
     lu.analyzePattern (factored);
     lu.factorize (factored);
   }
@@ -73,7 +81,6 @@ factorAndRefine (const MeshlessSystem& system,
     problem = "the sparse LU factorization failed: " + lu.lastErrorMessage ();
     return false;
   }
-  const auto to_ordered = order.inverse ();
   const auto solve = [&] (const Eigen::MatrixX2d& rhs) -> Eigen::MatrixX2d {
     const Matrix2 ordered_rhs = (to_ordered * rhs).template cast<Scalar> ();
     const Matrix2 ordered_solution = lu.solve (ordered_rhs);
@@ -316,16 +323,21 @@ solveMeshlessSystem (const MeshlessSystem& system,
     result.message = "the system was not built: " + system.message;
     return result;
   }
-  const std::size_t m = patch_points.size ();
-  result.uv.assign (m, Eigen::Vector2d::Zero ());
-  std::unordered_map<pcl::index_t, pcl::index_t> local_of;
-  for (std::size_t i = 0; i < m; ++i)
-    local_of.emplace (patch_points[i], static_cast<pcl::index_t> (i));
-  for (std::size_t k = 0; k < boundary_loop.size (); ++k)
-    result.uv[local_of.at (boundary_loop[k])] = boundary_uv[k];
+  // The boundary's parameter points, placed after the solve: the map from point to
+  // patch position would otherwise live through the factorization.
+  const auto placeBoundary = [&] () {
+    const std::size_t m = patch_points.size ();
+    result.uv.assign (m, Eigen::Vector2d::Zero ());
+    std::unordered_map<pcl::index_t, pcl::index_t> local_of;
+    for (std::size_t i = 0; i < m; ++i)
+      local_of.emplace (patch_points[i], static_cast<pcl::index_t> (i));
+    for (std::size_t k = 0; k < boundary_loop.size (); ++k)
+      result.uv[local_of.at (boundary_loop[k])] = boundary_uv[k];
+  };
 
   const Eigen::Index unknowns = system.matrix.rows ();
   if (unknowns == 0) {
+    placeBoundary ();
     result.success = true;
     return result;
   }
@@ -340,24 +352,22 @@ solveMeshlessSystem (const MeshlessSystem& system,
     // The factors are computed in single precision and the solution refined in
     // double (see factorAndRefine): they set the peak memory of large clouds.
     Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
-    Eigen::SparseMatrix<double> ordered;
     {
       const Eigen::SparseMatrix<double> column_major = system.matrix;
       Eigen::AMDOrdering<int> () (column_major, order); // orders the pattern of A + A^T
-      ordered = column_major.twistedBy (order.inverse ());
     }
     const double target = std::max (options.tolerance, 1e-8);
     std::unique_lock<std::mutex> exclusive;
     if (options.factorization_lock && static_cast<std::size_t> (unknowns) >= options.exclusive_from)
       exclusive = std::unique_lock<std::mutex> (*options.factorization_lock);
     std::string problem;
-    if (!factorAndRefine<float> (system, ordered, order, target, solution, result.iterations,
+    if (!factorAndRefine<float> (system, order, target, solution, result.iterations,
                                  problem)) {
       // A matrix too ill-conditioned for single precision (never seen on real
       // clouds) stalls the refinement or is singular when rounded: double factors.
       problem.clear ();
       result.double_precision_factors = true;
-      factorAndRefine<double> (system, ordered, order, target, solution, result.iterations,
+      factorAndRefine<double> (system, order, target, solution, result.iterations,
                                problem);
     }
     if (!problem.empty ()) {
@@ -397,6 +407,7 @@ solveMeshlessSystem (const MeshlessSystem& system,
                      " is too large (ill-conditioned system)";
     return result;
   }
+  placeBoundary ();
   for (Eigen::Index row = 0; row < unknowns; ++row)
     result.uv[system.interior[row]] = solution.row (row).transpose ();
   result.success = true;
