@@ -199,6 +199,25 @@ triangulateSphere (const Points3& points,
                      std::to_string (base.faces.size ()) + " patches, largest " +
                          std::to_string (stats.largest_patch) + " points"))
       return cancelled ();
+    // The rings and the mutual graph served the paths and the split; the patches
+    // need neither, and their solves set the peak memory of large clouds
+    // (armadillo_uniform_1m: the stage's peak 749 -> 682 MB). A next attempt, after
+    // a failed patch or merge, builds them again (stats.rebuilds; of the shared
+    // clouds armadillo_noisy_100k and bunny_rawscans_merged10 once each).
+    const auto release = [] (auto& array) { std::decay_t<decltype (array)> ().swap (array); };
+    release (surface.mutual.offsets);
+    release (surface.mutual.adjacency);
+    release (surface.ordered.rings.offsets);
+    release (surface.ordered.rings.adjacency);
+    release (surface.ordered.largest_gap);
+    const auto rebuild = [&] () {
+      ++stats.rebuilds;
+      SurfaceGraphs again = buildSurfaceGraphs (points, neighbourhoods, options.weights, {},
+                                                options.separate_thin_sheets);
+      surface.mutual = std::move (again.mutual);
+      surface.ordered.rings = std::move (again.ordered.rings);
+      surface.ordered.largest_gap = std::move (again.ordered.largest_gap);
+    };
 
     const std::size_t faces = split.patches.size ();
     std::vector<PatchTriangulation> triangulated (faces);
@@ -236,14 +255,17 @@ triangulateSphere (const Points3& points,
       stats.smallest_parameter_edge = std::min (stats.smallest_parameter_edge, patch.smallest_edge);
       patch_triangles.push_back (std::move (patch.triangles));
     }
-    if (!all_patches)
+    if (!all_patches) {
+      rebuild ();
       continue;
+    }
     if (!clock.done ("patches", 0.9))
       return cancelled ();
 
     MergedTriangulation merged = mergePatches (patch_triangles, n);
     if (!merged.success) {
       last_problem = merged.message;
+      rebuild ();
       continue;
     }
     stats.repair_flips = merged.num_repair_flips;

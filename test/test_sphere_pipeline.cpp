@@ -145,6 +145,28 @@ TEST (SpherePipeline, PathsAreSimpleDisjointAndRegionsPartitionTheRest)
   }
 }
 
+TEST (SpherePipeline, AttemptAfterAFailedPatchRebuildsTheSameGraphs)
+{
+  // The rings and the mutual graph are released before the patch solves and built
+  // again when a patch fails: the attempt after it must run exactly as it runs
+  // when the sequence starts there, with graphs never released.
+  // An ellipsoid sample whose first tetrahedron leaves a patch that folds in the
+  // parameter plane (found by trying seeds; the assertion below says if it stops).
+  const Points3 points = sampleShape (SyntheticShape::Ellipsoid, {3000, 6, 0.0});
+  const CsrGraph nb = meshless_test::bruteForceKnn (points, 12);
+  SpherePipelineOptions options;
+  options.alternate_polyhedra = false;
+  const SphereTriangulation sequence = triangulateSphere (points, nb, options);
+  ASSERT_TRUE (sequence.success) << sequence.message;
+  ASSERT_GE (sequence.stats.rebuilds, 1u) << "the cloud no longer fails a patch first";
+  options.first_attempt = sequence.stats.base_attempt;
+  options.max_base_attempts = 1;
+  const SphereTriangulation direct = triangulateSphere (points, nb, options);
+  ASSERT_TRUE (direct.success) << direct.message;
+  EXPECT_EQ (direct.stats.rebuilds, 0u);
+  EXPECT_EQ (direct.triangles, sequence.triangles);
+}
+
 TEST (SpherePipeline, TooFewPointsOrADisconnectedGraphIsAnError)
 {
   const Points3 three = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

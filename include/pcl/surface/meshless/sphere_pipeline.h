@@ -87,6 +87,10 @@ struct SpherePipelineStats
   std::size_t thin_part_edges = 0;
   std::size_t weight_fallbacks = 0;
   double smallest_parameter_edge = 0.0;
+  /** \brief Times the rings and the mutual graph were built again for a next
+    * attempt: they are released before the patch solves (for the peak memory) and
+    * rebuilt when a patch or the merge fails. */
+  std::size_t rebuilds = 0;
 };
 
 struct SphereTriangulation : StageStatus
