@@ -8,6 +8,7 @@
 
 #include <limits>
 #include <pcl/conversions.h>
+#include <pcl/surface/meshless/freed_memory.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
@@ -302,6 +303,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     first_options = options;
     meshless::SphereTriangulation result =
         meshless::triangulateSphere (points, nb.neighbours, options);
+    meshless::releaseFreedMemory (); // the pipeline's graphs and factors (freed_memory.h)
     report_.stats = result.stats;
     if (result.success) {
       triangles = std::move (result.triangles);
@@ -434,6 +436,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
         swap_options.input_free_of_intersections =
             raw.self_intersections_checked && (raw.self_intersecting_pairs == 0 || repaired);
       }
+      meshless::releaseFreedMemory (); // the checks' and the repair's arrays
       const auto optimize_start = std::chrono::steady_clock::now ();
       optimization = meshless::optimizeBySwaps (points, mesh_triangles, swap_options);
       if (!optimization.success)
