@@ -194,5 +194,41 @@ splitIntoPatches (const Points3& points,
   return result;
 }
 
+CsrGraph
+candidatesNearCuts (const CsrGraph& candidates,
+                    const CsrGraph& dependencies,
+                    const PatchSplit& split)
+{
+  const std::size_t n = candidates.size ();
+  // The patch each point is an interior point of; -1 on a loop (in several).
+  std::vector<int> interior_of (n, -1);
+  for (std::size_t f = 0; f < split.patches.size (); ++f) {
+    const Patch& patch = split.patches[f];
+    for (std::size_t k = patch.loop.size (); k < patch.points.size (); ++k)
+      interior_of[patch.points[k]] = static_cast<int> (f);
+  }
+  std::vector<char> kept (n, 0);
+  for (std::size_t v = 0; v < n && v < dependencies.size (); ++v)
+    if (interior_of[v] >= 0)
+      for (const pcl::index_t* w = dependencies.begin (static_cast<pcl::index_t> (v));
+           w != dependencies.end (static_cast<pcl::index_t> (v)); ++w)
+        if (interior_of[*w] != interior_of[v]) {
+          kept[v] = 1;
+          break;
+        }
+  CsrGraph near;
+  near.offsets.assign (n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v)
+    near.offsets[v + 1] =
+        near.offsets[v] +
+        (kept[v] ? static_cast<pcl::index_t> (candidates.degree (static_cast<pcl::index_t> (v))) : 0);
+  near.adjacency.reserve (static_cast<std::size_t> (near.offsets[n]));
+  for (std::size_t v = 0; v < n; ++v)
+    if (kept[v])
+      near.adjacency.insert (near.adjacency.end (), candidates.begin (static_cast<pcl::index_t> (v)),
+                             candidates.end (static_cast<pcl::index_t> (v)));
+  return near;
+}
+
 } // namespace meshless
 } // namespace pcl

@@ -199,12 +199,16 @@ triangulateSphere (const Points3& points,
                      std::to_string (base.faces.size ()) + " patches, largest " +
                          std::to_string (stats.largest_patch) + " points"))
       return cancelled ();
-    // The rings and the mutual graph served the paths and the split; the patches
-    // need neither, and their solves set the peak memory of large clouds
-    // (armadillo_uniform_1m: the stage's peak 749 -> 682 MB). A next attempt, after
-    // a failed patch or merge, builds them again (stats.rebuilds; of the shared
+    // The rings and the mutual graph served the paths and the split, and the
+    // patches read G only next to the cuts; their solves set the peak memory of
+    // large clouds (armadillo_uniform_1m: the stage's peak 749 -> 682 MB without
+    // the rings and the mutual graph, -> 611 MB without G too). A next attempt, after a
+    // failed patch or merge, builds them again (stats.rebuilds; of the shared
     // clouds armadillo_noisy_100k and bunny_rawscans_merged10 once each).
+    const CsrGraph cut_candidates = candidatesNearCuts (graph, weights.neighbours, split);
     const auto release = [] (auto& array) { std::decay_t<decltype (array)> ().swap (array); };
+    release (surface.graph.offsets);
+    release (surface.graph.adjacency);
     release (surface.mutual.offsets);
     release (surface.mutual.adjacency);
     release (surface.ordered.rings.offsets);
@@ -214,6 +218,7 @@ triangulateSphere (const Points3& points,
       ++stats.rebuilds;
       SurfaceGraphs again = buildSurfaceGraphs (points, neighbourhoods, options.weights, {},
                                                 options.separate_thin_sheets);
+      surface.graph = std::move (again.graph);
       surface.mutual = std::move (again.mutual);
       surface.ordered.rings = std::move (again.ordered.rings);
       surface.ordered.largest_gap = std::move (again.ordered.largest_gap);
@@ -223,7 +228,7 @@ triangulateSphere (const Points3& points,
     std::vector<PatchTriangulation> triangulated (faces);
     PatchRingContext patch_rings;
     patch_rings.points = &points;
-    patch_rings.candidates = &graph;
+    patch_rings.candidates = &cut_candidates;
     patch_rings.normals = &ordered.normals;
     patch_rings.weights.type = options.weights;
     // One large set of LU factors at a time (SolveOptions::factorization_lock), the

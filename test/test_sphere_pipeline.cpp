@@ -167,6 +167,43 @@ TEST (SpherePipeline, AttemptAfterAFailedPatchRebuildsTheSameGraphs)
   EXPECT_EQ (direct.triangles, sequence.triangles);
 }
 
+TEST (SpherePipeline, CandidatesNearCutsBuildTheSameSystemsAsG)
+{
+  // The patches read G only where a point's weights reach outside its patch; the
+  // rows candidatesNearCuts keeps must give every patch the very system G gives.
+  const Points3 points = sampleShape (SyntheticShape::BumpySphere, {3000, 8, 0.0});
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
+  const CsrGraph mutual = mutualRingGraph (ordered.rings);
+  ASSERT_TRUE (orientNormals (points, graph, mutual, ordered).success);
+  const BaseMesh base = polyhedronBaseMesh (points, BasePolyhedron::Octahedron);
+  const CutPaths paths = computeCutPaths (points, mutual, ordered.rings, base);
+  ASSERT_TRUE (paths.success) << paths.message;
+  const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals);
+  const PatchSplit split = splitIntoPatches (points, mutual, graph, weights.neighbours, base, paths);
+  ASSERT_TRUE (split.success) << split.message;
+  const CsrGraph near = candidatesNearCuts (graph, weights.neighbours, split);
+  ASSERT_EQ (near.size (), graph.size ());
+  EXPECT_LT (near.numEntries (), graph.numEntries () / 2) << "only rows next to the cuts";
+  std::size_t rerung = 0;
+  for (const Patch& patch : split.patches) {
+    const Points2 uv = circleBoundary (points, patch.loop);
+    PatchRingContext full, restricted;
+    full.points = restricted.points = &points;
+    full.normals = restricted.normals = &ordered.normals;
+    full.candidates = &graph;
+    restricted.candidates = &near;
+    const MeshlessSystem a = buildMeshlessSystem (weights, patch.points, patch.loop, uv, &full);
+    const MeshlessSystem b = buildMeshlessSystem (weights, patch.points, patch.loop, uv, &restricted);
+    ASSERT_TRUE (a.success && b.success);
+    EXPECT_EQ (a.num_rerung, b.num_rerung);
+    rerung += a.num_rerung;
+    EXPECT_EQ (Eigen::MatrixXd (a.matrix), Eigen::MatrixXd (b.matrix));
+    EXPECT_EQ (a.rhs, b.rhs);
+  }
+  EXPECT_GT (rerung, 0u) << "no point next to a cut was given a new ring";
+}
+
 TEST (SpherePipeline, TooFewPointsOrADisconnectedGraphIsAnError)
 {
   const Points3 three = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};

@@ -61,5 +61,20 @@ splitIntoPatches (const Points3& points,
                   const BaseMesh& base,
                   const CutPaths& paths);
 
+/** \brief The rows of `candidates` (the graph G) that the patches' systems can
+  * read, the others empty: a point's candidates are needed only where its weight
+  * neighbourhood reaches outside its patch (see PatchRingContext), next to a cut.
+  * Rows are kept for every interior point with a weight neighbour that is not an
+  * interior point of the same patch (a superset of those). G's 54 MB on
+  * armadillo_uniform_1m then need not live through the patch solves, the peak of
+  * large clouds.
+  * \param[in] candidates n rows
+  * \param[in] dependencies each point's weight neighbourhood (Weights::neighbours)
+  * \param[in] split the patches (splitIntoPatches) */
+CsrGraph
+candidatesNearCuts (const CsrGraph& candidates,
+                    const CsrGraph& dependencies,
+                    const PatchSplit& split);
+
 } // namespace meshless
 } // namespace pcl
