@@ -128,19 +128,21 @@ triangulateSphere (const Points3& points,
   // no room for three or more paths in the right cyclic order. And only in the
   // largest component of the mutual graph, which the paths are routed in (thin
   // parts whose rings disagree with the rest may form components of their own).
-  std::vector<pcl::index_t> mutual_component;
-  const std::size_t mutual_components = connectedComponents (mutual, mutual_component);
-  std::vector<std::size_t> mutual_size (mutual_components, 0);
-  for (auto c : mutual_component)
-    ++mutual_size[c];
-  const auto main_component = static_cast<pcl::index_t> (
-      std::max_element (mutual_size.begin (), mutual_size.end ()) - mutual_size.begin ());
   std::vector<char> corner_eligible (n, 0);
   std::size_t eligible_count = 0;
-  for (std::size_t v = 0; v < n; ++v) {
-    corner_eligible[v] = ordered.largest_gap[v] < 0.9 * 3.14159265358979 && mutual.degree (v) >= 4 &&
-                         mutual_component[v] == main_component;
-    eligible_count += corner_eligible[v];
+  {
+    std::vector<pcl::index_t> mutual_component;
+    const std::size_t mutual_components = connectedComponents (mutual, mutual_component);
+    std::vector<std::size_t> mutual_size (mutual_components, 0);
+    for (auto c : mutual_component)
+      ++mutual_size[c];
+    const auto main_component = static_cast<pcl::index_t> (
+        std::max_element (mutual_size.begin (), mutual_size.end ()) - mutual_size.begin ());
+    for (std::size_t v = 0; v < n; ++v) {
+      corner_eligible[v] = ordered.largest_gap[v] < 0.9 * 3.14159265358979 &&
+                           mutual.degree (v) >= 4 && mutual_component[v] == main_component;
+      eligible_count += corner_eligible[v];
+    }
   }
   if (eligible_count < 4)
     corner_eligible.clear (); // a tiny or degenerate cloud: let any point be a corner
