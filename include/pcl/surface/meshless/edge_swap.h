@@ -81,8 +81,9 @@ struct EdgeSwapOptions
     * (every step reads the points of a neighbourhood): on points in random order
     * (armadillo_uniform_1m's) the optimizer took 30% less time. False where the
     * points are in a spatially coherent order already (the class numbers them along
-    * a Z-order curve): the copy is skipped (1M points: 32 MB less at the stage's
-    * peak, and no slower: 3.06 -> 2.86 s with one thread). A mesh that leaves
+    * a Z-order curve): the copies of the points and the triangles are skipped (1M
+    * points: 56 MB less at the stage's peak, and no slower: 3.06 -> 2.86 s with
+    * one thread), the swaps work on the caller's triangles. A mesh that leaves
     * vertices unused is renumbered all the same. The result depends on the
     * numbering only in which of equally good swaps comes first. */
   bool renumber_vertices = true;
@@ -175,7 +176,9 @@ struct EdgeSwapResult : StageStatus
   *
   * The input must be a manifold, consistently oriented mesh (closed or with boundary)
   * whose indices are in range and pairwise distinct within each triangle; otherwise
-  * the stage fails and leaves the triangles untouched. A swap never touches a boundary
+  * the stage fails and leaves the triangles untouched (as it does when memory runs
+  * out, except with renumber_vertices = false: then the triangles hold the valid
+  * triangulation of the swaps made so far). A swap never touches a boundary
   * edge, never creates an edge that already exists, a degenerate triangle (twice its
   * area below 1e-8 times its longest edge squared) or a fold (see max_fold_angle_deg);
   * so the vertex set, the number of triangles, orientation, manifoldness, the Euler
@@ -190,7 +193,8 @@ struct EdgeSwapResult : StageStatus
   * the 97k-triangle raw horse (31,000 swaps; 0.77 s and 67,000 swaps before the
   * changes of issue 5); 6.6 s on two threads for the 2M-triangle raw
   * armadillo_uniform_1m (604,000 swaps; 31 s and 1.85M swaps before). Memory:
-  * about 260 bytes per triangle.
+  * about 180 bytes per triangle without renumbering (armadillo_uniform_1m, the
+  * stage's peak over the resident set before it).
   * \param[in] points the vertex positions
   * \param[in,out] triangles the mesh, counter-clockwise seen from outside
   * \param[in] options cost and passes
