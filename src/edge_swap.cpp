@@ -1472,6 +1472,21 @@ private:
   std::size_t intersections_ = 0;
 };
 
+/** Whether every one of n vertices is a corner of some triangle. */
+bool
+allVerticesUsed (std::size_t n, const Triangles& triangles)
+{
+  std::vector<char> used (n, 0);
+  std::size_t count = 0;
+  for (const Triangle& t : triangles)
+    for (const pcl::index_t v : t)
+      if (!used[v]) {
+        used[v] = 1;
+        ++count;
+      }
+  return count == n;
+}
+
 } // namespace
 
 EdgeSwapResult
@@ -1501,25 +1516,14 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     // build () only reads: an invalid mesh fails untouched, and a swap writes both
     // of its triangles before anything that allocates, so running out of memory
     // leaves the valid triangulation of the swaps made so far.
-    std::vector<char> used (points.size (), 0);
-    std::size_t num_used = 0;
-    for (const Triangle& t : triangles)
-      for (const pcl::index_t v : t)
-        if (!used[v]) {
-          used[v] = 1;
-          ++num_used;
-        }
-    std::vector<char> ().swap (used);
-    const bool renumber = options.renumber_vertices || num_used != points.size ();
+    const bool renumber = options.renumber_vertices || !allVerticesUsed (points.size (), triangles);
     std::vector<pcl::index_t> original;
     Triangles copy;
-    if (renumber)
-      copy = triangles;
-    Triangles& work = renumber ? copy : triangles;
     Points3 renumbered_points;
     if (renumber) {
+      copy = triangles;
       std::vector<pcl::index_t> renumbered (points.size (), -1);
-      for (Triangle& t : work)
+      for (Triangle& t : copy)
         for (pcl::index_t& v : t) {
           if (renumbered[v] < 0) {
             renumbered[v] = static_cast<pcl::index_t> (original.size ());
@@ -1532,6 +1536,7 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
         renumbered_points[v] = points[original[v]];
     }
     const Points3& local = renumber ? renumbered_points : points;
+    Triangles& work = renumber ? copy : triangles;
     Optimizer optimizer (local, work, options);
     if (!optimizer.build ()) {
       result.message = optimizer.message ();

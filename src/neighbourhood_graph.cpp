@@ -55,18 +55,25 @@ symmetricGraph (const CsrGraph& neighbourhoods)
 CsrGraph
 transposeGraph (const CsrGraph& graph)
 {
-  const std::size_t n = graph.size ();
+  return transposeGraph (graph.size (), graph.offsets.data (), graph.adjacency.data ());
+}
+
+CsrGraph
+transposeGraph (std::size_t n, const pcl::index_t* offsets, const pcl::index_t* adjacency)
+{
   CsrGraph transposed;
   transposed.offsets.assign (n + 1, 0);
-  for (pcl::index_t w : graph.adjacency)
-    ++transposed.offsets[w + 1];
+  if (n == 0)
+    return transposed;
+  for (auto k = offsets[0]; k < offsets[n]; ++k)
+    ++transposed.offsets[adjacency[k] + 1];
   for (std::size_t v = 0; v < n; ++v)
     transposed.offsets[v + 1] += transposed.offsets[v];
-  transposed.adjacency.resize (graph.adjacency.size ());
-  std::vector<pcl::index_t> filled (transposed.offsets.begin (), transposed.offsets.end () - (n ? 1 : 0));
+  transposed.adjacency.resize (static_cast<std::size_t> (offsets[n] - offsets[0]));
+  std::vector<pcl::index_t> filled (transposed.offsets.begin (), transposed.offsets.end () - 1);
   for (std::size_t v = 0; v < n; ++v)
-    for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
-      transposed.adjacency[filled[*w]++] = static_cast<pcl::index_t> (v);
+    for (auto k = offsets[v]; k < offsets[v + 1]; ++k)
+      transposed.adjacency[filled[adjacency[k]]++] = static_cast<pcl::index_t> (v);
   return transposed;
 }
 

@@ -2,6 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
 #include <pcl/surface/meshless/parameterization.h>
 
@@ -12,6 +13,7 @@
 #include <cmath>
 #include <limits>
 #include <string>
+#include <type_traits>
 #include <unordered_map>
 
 namespace pcl {
@@ -39,8 +41,8 @@ loopEdgeLengths (const Points3& points, const std::vector<pcl::index_t>& loop)
   return length;
 }
 
-/** Solves system.matrix x = system.rhs with LU factors of `ordered` (the matrix
-  * permuted symmetrically by `order`) computed in Scalar precision, then refines x
+/** Solves system.matrix x = system.rhs with LU factors of the matrix permuted
+  * symmetrically by `order`, computed in Scalar precision, then refines x
   * in double precision: x += A^-1 (b - A x) with the same factors while the
   * residual halves, down to double rounding. Single precision factors take two
   * thirds of the memory of double ones (4 + 4 bytes per nonzero instead of 8 + 4);
@@ -299,21 +301,10 @@ buildMeshlessSystem (const Weights& weights,
   // weight edges. Search backwards from the rows with a boundary weight; column j
   // of the matrix lists the rows that depend on unknown j.
   // (The column lists hold row numbers only: a third of a column-major copy.)
-  const auto* row_start = system.matrix.outerIndexPtr ();
-  const auto* column_of = system.matrix.innerIndexPtr ();
-  std::vector<pcl::index_t> column_start (unknowns + 1, 0), rows_of;
-  for (std::size_t row = 0; row < unknowns; ++row)
-    for (auto k = row_start[row]; k < row_start[row + 1]; ++k)
-      ++column_start[column_of[k] + 1];
-  for (std::size_t j = 0; j < unknowns; ++j)
-    column_start[j + 1] += column_start[j];
-  rows_of.resize (static_cast<std::size_t> (column_start[unknowns]));
-  {
-    std::vector<pcl::index_t> fill (column_start.begin (), column_start.end () - 1);
-    for (std::size_t row = 0; row < unknowns; ++row)
-      for (auto k = row_start[row]; k < row_start[row + 1]; ++k)
-        rows_of[fill[column_of[k]]++] = static_cast<pcl::index_t> (row);
-  }
+  static_assert (std::is_same<Eigen::SparseMatrix<double>::StorageIndex, pcl::index_t>::value,
+                 "the matrix's indices read as a graph");
+  const CsrGraph dependents = transposeGraph (unknowns, system.matrix.outerIndexPtr (),
+                                              system.matrix.innerIndexPtr ());
   std::vector<char> reaches (touches_boundary);
   std::vector<pcl::index_t> stack;
   for (std::size_t row = 0; row < unknowns; ++row)
@@ -322,10 +313,10 @@ buildMeshlessSystem (const Weights& weights,
   while (!stack.empty ()) {
     const pcl::index_t j = stack.back ();
     stack.pop_back ();
-    for (auto k = column_start[j]; k < column_start[j + 1]; ++k)
-      if (!reaches[rows_of[k]]) {
-        reaches[rows_of[k]] = 1;
-        stack.push_back (rows_of[k]);
+    for (const pcl::index_t* row = dependents.begin (j); row != dependents.end (j); ++row)
+      if (!reaches[*row]) {
+        reaches[*row] = 1;
+        stack.push_back (*row);
       }
   }
   std::size_t cut_off = 0;

@@ -62,6 +62,14 @@ patchWeights (const Points3& points, WeightType type)
   return computeWeights (points, ordered.rings, graph, ordered.normals, {type});
 }
 
+/** The patch's system with mean value weights, its loop at `uv`. */
+MeshlessSystem
+meanValueSystem (const PlanarPatch& patch, const Points2& uv)
+{
+  return buildMeshlessSystem (patchWeights (patch.points, WeightType::MeanValue), patch.all,
+                              patch.loop, uv);
+}
+
 } // namespace
 
 TEST (Parameterization, CircleBoundaryIsChordLengthCounterClockwise)
@@ -101,9 +109,8 @@ TEST (Parameterization, PolygonBoundaryPutsCornersOnCornersAndSidesOnSides)
 TEST (Parameterization, SystemIsAnMMatrixWithRowsSummingToTheBoundaryShare)
 {
   const PlanarPatch patch = planarPatch (40, 30, 1);
-  const Weights weights = patchWeights (patch.points, WeightType::MeanValue);
   const Points2 uv = circleBoundary (patch.points, patch.loop);
-  const MeshlessSystem system = buildMeshlessSystem (weights, patch.all, patch.loop, uv);
+  const MeshlessSystem system = meanValueSystem (patch, uv);
   ASSERT_TRUE (system.success) << system.message;
   ASSERT_EQ (static_cast<std::size_t> (system.matrix.rows ()), patch.points.size () - 40);
   for (Eigen::Index r = 0; r < system.matrix.outerSize (); ++r) {
@@ -165,9 +172,8 @@ TEST (Parameterization, SingleFactorsAreRefinedToDoublePrecision)
   // The direct solver factors in single precision (half the memory of the values)
   // and refines in double: the residual is that of double factors, not float's 1e-7.
   const PlanarPatch patch = planarPatch (48, 40, 6);
-  const Weights weights = patchWeights (patch.points, WeightType::MeanValue);
   const Points2 uv = circleBoundary (patch.points, patch.loop);
-  const MeshlessSystem system = buildMeshlessSystem (weights, patch.all, patch.loop, uv);
+  const MeshlessSystem system = meanValueSystem (patch, uv);
   ASSERT_TRUE (system.success) << system.message;
   const Parameterization result = solveMeshlessSystem (system, patch.all, patch.loop, uv);
   ASSERT_TRUE (result.success) << result.message;
@@ -210,9 +216,8 @@ TEST (Parameterization, TooIllConditionedForSingleFactorsIsSolvedInDouble)
 TEST (Parameterization, LargeFactorizationsWaitForTheLock)
 {
   const PlanarPatch patch = planarPatch (40, 30, 7);
-  const Weights weights = patchWeights (patch.points, WeightType::MeanValue);
   const Points2 uv = circleBoundary (patch.points, patch.loop);
-  const MeshlessSystem system = buildMeshlessSystem (weights, patch.all, patch.loop, uv);
+  const MeshlessSystem system = meanValueSystem (patch, uv);
   ASSERT_TRUE (system.success) << system.message;
   std::mutex lock;
   SolveOptions options;

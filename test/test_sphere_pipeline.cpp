@@ -36,6 +36,39 @@ expectClosedSphere (const Points3& points, const SphereTriangulation& result)
   EXPECT_EQ (report.self_intersecting_pairs, 0u) << describe (report);
 }
 
+/** The pipeline's stages up to the split, on an octahedron and the 12 nearest
+  * neighbours; later stages are left empty where an earlier one failed. */
+struct SplitStages
+{
+  CsrGraph graph;
+  OrderedNeighbourhoods ordered;
+  CsrGraph mutual;
+  bool oriented = false;
+  BaseMesh base;
+  CutPaths paths;
+  Weights weights;
+  PatchSplit split;
+};
+
+SplitStages
+octahedronSplit (const Points3& points)
+{
+  SplitStages s;
+  s.graph = meshless_test::bruteForceKnnGraph (points, 12);
+  s.ordered = orderNeighbourhoods (points, s.graph);
+  s.mutual = mutualRingGraph (s.ordered.rings);
+  s.oriented = orientNormals (points, s.graph, s.mutual, s.ordered).success;
+  if (!s.oriented)
+    return s;
+  s.base = polyhedronBaseMesh (points, BasePolyhedron::Octahedron);
+  s.paths = computeCutPaths (points, s.mutual, s.ordered.rings, s.base);
+  if (!s.paths.success)
+    return s;
+  s.weights = computeWeights (points, s.ordered.rings, s.graph, s.ordered.normals);
+  s.split = splitIntoPatches (points, s.mutual, s.graph, s.weights.neighbours, s.base, s.paths);
+  return s;
+}
+
 } // namespace
 
 TEST (SpherePipeline, SyntheticShapesCloseUpWithEveryInvariant)
@@ -97,17 +130,14 @@ TEST (SpherePipeline, DeterministicAndReportsEveryStage)
 TEST (SpherePipeline, PathsAreSimpleDisjointAndRegionsPartitionTheRest)
 {
   const Points3 points = sampleShape (SyntheticShape::BumpySphere, {3000, 5, 0.0});
-  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
-  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-  const CsrGraph mutual = mutualRingGraph (ordered.rings);
-  ASSERT_TRUE (orientNormals (points, graph, mutual, ordered).success);
+  const SplitStages stages = octahedronSplit (points);
+  const auto& [graph, ordered, mutual, oriented, base, paths, weights, split] = stages;
+  ASSERT_TRUE (oriented);
   std::size_t outward = 0;
   for (std::size_t v = 0; v < points.size (); ++v)
     outward += ordered.normals[v].cast<double> ().dot (points[v]) > 0.0;
   EXPECT_EQ (outward, points.size ()) << "a star-shaped cloud: every normal points away from 0";
 
-  const BaseMesh base = polyhedronBaseMesh (points, BasePolyhedron::Octahedron);
-  const CutPaths paths = computeCutPaths (points, mutual, ordered.rings, base);
   ASSERT_TRUE (paths.success) << paths.message;
   std::vector<int> uses (points.size (), 0);
   std::set<pcl::index_t> corners (base.vertices.begin (), base.vertices.end ());
@@ -127,9 +157,6 @@ TEST (SpherePipeline, PathsAreSimpleDisjointAndRegionsPartitionTheRest)
   for (int u : uses)
     EXPECT_LE (u, 1) << "two paths share an inner point";
 
-  const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals);
-  const PatchSplit split =
-      splitIntoPatches (points, mutual, graph, weights.neighbours, base, paths);
   ASSERT_TRUE (split.success) << split.message;
   ASSERT_EQ (split.patches.size (), base.faces.size ());
   std::vector<int> interior_of (points.size (), 0);
@@ -172,15 +199,10 @@ TEST (SpherePipeline, CandidatesNearCutsBuildTheSameSystemsAsG)
   // The patches read G only where a point's weights reach outside its patch; the
   // rows candidatesNearCuts keeps must give every patch the very system G gives.
   const Points3 points = sampleShape (SyntheticShape::BumpySphere, {3000, 8, 0.0});
-  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
-  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-  const CsrGraph mutual = mutualRingGraph (ordered.rings);
-  ASSERT_TRUE (orientNormals (points, graph, mutual, ordered).success);
-  const BaseMesh base = polyhedronBaseMesh (points, BasePolyhedron::Octahedron);
-  const CutPaths paths = computeCutPaths (points, mutual, ordered.rings, base);
+  const SplitStages stages = octahedronSplit (points);
+  const auto& [graph, ordered, mutual, oriented, base, paths, weights, split] = stages;
+  ASSERT_TRUE (oriented);
   ASSERT_TRUE (paths.success) << paths.message;
-  const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals);
-  const PatchSplit split = splitIntoPatches (points, mutual, graph, weights.neighbours, base, paths);
   ASSERT_TRUE (split.success) << split.message;
   const CsrGraph near = candidatesNearCuts (graph, weights.neighbours, split);
   ASSERT_EQ (near.size (), graph.size ());

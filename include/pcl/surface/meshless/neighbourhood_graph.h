@@ -70,6 +70,11 @@ symmetricGraph (const CsrGraph& neighbourhoods);
 CsrGraph
 transposeGraph (const CsrGraph& graph);
 
+/** \brief The same for a graph stored elsewhere in CSR form (a sparse matrix's
+  * pattern, say): n rows, offsets[0..n], adjacency[offsets[0]..offsets[n]). */
+CsrGraph
+transposeGraph (std::size_t n, const pcl::index_t* offsets, const pcl::index_t* adjacency);
+
 /** \brief Number of connected components of a symmetric graph, and each vertex's
   * component label (0-based, in order of the smallest vertex of each component). */
 std::size_t
