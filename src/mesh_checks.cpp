@@ -76,8 +76,12 @@ merge (const Box& a, const Box& b)
 
 /** Binary tree over boxes; the boxes are stored in an order in which near boxes are
   * near each other (Morton order), and every node covers a contiguous range of that
-  * order. The range lets each box visit only the boxes after it, so each candidate
-  * pair is found once without a set of seen pairs. */
+  * order, the left child's before the right child's. Overlapping pairs are found by
+  * walking pairs of nodes (a node with itself, then its children against each
+  * other) rather than one query per box from the root: on a surface mesh nearly
+  * all the nodes a box's own query visits are its ancestors and their siblings,
+  * which each pair walk visits once (measured on the 1M armadillo's mesh, 2 million
+  * triangles: 1.1 -> 0.77 s for the search, checkMesh 1.41 -> 1.10 s). */
 class BoxTree
 {
 public:
@@ -91,30 +95,56 @@ public:
     build (0, static_cast<std::uint32_t> (boxes_.size ()));
   }
 
-  /** Calls visit (q) for every q > p whose box overlaps box p. */
-  template <typename Visit>
+  /** Calls visit (p, q, thread) once for every pair p < q of overlapping boxes, the
+    * work split among `threads` threads (run (tasks, body) runs body (i, thread)
+    * for i in [0, tasks)). */
+  template <typename Run, typename Visit>
   void
-  forEachLaterOverlap (std::uint32_t p, Visit&& visit) const
+  forEachOverlappingPair (Run&& run, Visit&& visit) const
   {
-    const Box& box = boxes_[p];
-    // A balanced tree over at most 2^32 boxes is at most 30 levels deep.
-    std::array<std::uint32_t, 64> stack;
-    std::size_t top = 0;
-    stack[top++] = 0;
-    while (top > 0) {
-      const Node& node = nodes_[stack[--top]];
-      if (node.end <= p + 1 || !overlap (node.box, box))
-        continue;
-      if (node.right == 0) {
-        for (std::uint32_t q = std::max (node.begin, p + 1); q < node.end; ++q)
-          if (overlap (boxes_[q], box))
-            visit (q);
+    if (nodes_.empty ())
+      return;
+    // Independent tasks from the top of the walk: enough of them to balance the
+    // threads, each a node with itself (a == b) or two nodes whose ranges are
+    // apart, a's before b's.
+    std::vector<std::pair<std::uint32_t, std::uint32_t>> tasks{{0, 0}}, next;
+    for (int level = 0; level < 12 && tasks.size () < 256; ++level) {
+      next.clear ();
+      for (const auto& [a, b] : tasks) {
+        const Node& na = nodes_[a];
+        const Node& nb = nodes_[b];
+        if (a == b) {
+          if (na.right == 0)
+            next.emplace_back (a, a);
+          else {
+            next.emplace_back (a + 1, a + 1);
+            next.emplace_back (na.right, na.right);
+            next.emplace_back (a + 1, na.right);
+          }
+        }
+        else if (!overlap (na.box, nb.box))
+          continue;
+        else if (na.right == 0 && nb.right == 0)
+          next.emplace_back (a, b);
+        else if (nb.right == 0 || (na.right != 0 && na.end - na.begin >= nb.end - nb.begin)) {
+          next.emplace_back (a + 1, b);
+          next.emplace_back (na.right, b);
+        }
+        else {
+          next.emplace_back (a, b + 1);
+          next.emplace_back (a, nb.right);
+        }
       }
-      else {
-        stack[top++] = node.right;
-        stack[top++] = static_cast<std::uint32_t> (&node - nodes_.data ()) + 1;
-      }
+      tasks.swap (next);
     }
+    run (tasks.size (), [&] (std::size_t i, int thread) {
+      const auto [a, b] = tasks[i];
+      const auto at = [&] (std::uint32_t p, std::uint32_t q) { visit (p, q, thread); };
+      if (a == b)
+        self (a, at);
+      else
+        cross (a, b, at);
+    });
   }
 
 private:
@@ -127,6 +157,54 @@ private:
     /** Index of the right child (the left one follows its parent), 0 for a leaf. */
     std::uint32_t right;
   };
+
+  /** The pairs within node a. */
+  template <typename Visit>
+  void
+  self (std::uint32_t a, Visit& visit) const
+  {
+    const Node& node = nodes_[a];
+    if (node.right == 0) {
+      for (std::uint32_t p = node.begin; p < node.end; ++p)
+        for (std::uint32_t q = p + 1; q < node.end; ++q)
+          if (overlap (boxes_[p], boxes_[q]))
+            visit (p, q);
+      return;
+    }
+    self (a + 1, visit);
+    self (node.right, visit);
+    cross (a + 1, node.right, visit);
+  }
+
+  /** The pairs between node a and node b, whose range follows a's; the larger
+    * node is split first. */
+  template <typename Visit>
+  void
+  cross (std::uint32_t a, std::uint32_t b, Visit& visit) const
+  {
+    const Node& na = nodes_[a];
+    const Node& nb = nodes_[b];
+    if (!overlap (na.box, nb.box))
+      return;
+    if (na.right == 0 && nb.right == 0) {
+      for (std::uint32_t p = na.begin; p < na.end; ++p) {
+        if (!overlap (boxes_[p], nb.box))
+          continue;
+        for (std::uint32_t q = nb.begin; q < nb.end; ++q)
+          if (overlap (boxes_[p], boxes_[q]))
+            visit (p, q);
+      }
+      return;
+    }
+    if (nb.right == 0 || (na.right != 0 && na.end - na.begin >= nb.end - nb.begin)) {
+      cross (a + 1, b, visit);
+      cross (na.right, b, visit);
+    }
+    else {
+      cross (a, b + 1, visit);
+      cross (a, nb.right, visit);
+    }
+  }
 
   std::uint32_t
   build (std::uint32_t begin, std::uint32_t end)
@@ -587,28 +665,26 @@ private:
     for (ThreadFindings& own : findings)
       own.listed.reserve (keep > 0 ? 4 * keep : 0);
 
-    parallelRanges (
-        order.size (), 1024, threads_,
-        [&] (std::size_t begin, std::size_t end, int thread) {
-          ThreadFindings& own = findings[static_cast<std::size_t> (thread)];
-          for (std::size_t p = begin; p < end; ++p)
-            tree.forEachLaterOverlap (
-                static_cast<std::uint32_t> (p), [&] (std::uint32_t q) {
-                  const std::size_t f = order[p], g = order[q];
-                  if (!trianglesIntersect (vertices_, triangles_[f], axis_[f],
-                                           triangles_[g], axis_[g]))
-                    return;
-                  ++own.count;
-                  if (keep == 0)
-                    return;
-                  own.listed.emplace_back (std::min (f, g), std::max (f, g));
-                  if (own.listed.size () == own.listed.capacity ()) {
-                    std::nth_element (own.listed.begin (), own.listed.begin () + keep,
-                                      own.listed.end ());
-                    own.listed.resize (keep);
-                  }
-                });
-        });
+    const auto run = [&] (std::size_t tasks, const auto& body) {
+      parallelRanges (tasks, 1, threads_, [&] (std::size_t begin, std::size_t end, int thread) {
+        for (std::size_t i = begin; i < end; ++i)
+          body (i, thread);
+      });
+    };
+    tree.forEachOverlappingPair (run, [&] (std::uint32_t p, std::uint32_t q, int thread) {
+      ThreadFindings& own = findings[static_cast<std::size_t> (thread)];
+      const std::size_t f = order[p], g = order[q];
+      if (!trianglesIntersect (vertices_, triangles_[f], axis_[f], triangles_[g], axis_[g]))
+        return;
+      ++own.count;
+      if (keep == 0)
+        return;
+      own.listed.emplace_back (std::min (f, g), std::max (f, g));
+      if (own.listed.size () == own.listed.capacity ()) {
+        std::nth_element (own.listed.begin (), own.listed.begin () + keep, own.listed.end ());
+        own.listed.resize (keep);
+      }
+    });
 
     report_.self_intersections_checked = true;
     for (const ThreadFindings& own : findings) {
