@@ -138,23 +138,33 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   }
   std::sort (finite.begin (), finite.end ());
   finite.erase (std::unique (finite.begin (), finite.end ()), finite.end ());
-  std::vector<std::size_t> order (finite.size ());
-  std::iota (order.begin (), order.end (), 0);
-  auto position = [&] (std::size_t k) { return (*input_)[finite[k]].getVector3fMap (); };
-  std::sort (order.begin (), order.end (), [&] (std::size_t a, std::size_t b) {
-    const auto pa = position (a), pb = position (b);
-    if (pa.x () != pb.x ())
-      return pa.x () < pb.x ();
-    if (pa.y () != pb.y ())
-      return pa.y () < pb.y ();
-    if (pa.z () != pb.z ())
-      return pa.z () < pb.z ();
-    return a < b;
+  // Sorted by position (then by index, so the first of equal points is kept) as
+  // one contiguous array: sorting indices that load their points from the cloud
+  // took 0.48 s of random access on a million points, this 0.1 s.
+  struct Keyed
+  {
+    float x, y, z;
+    std::uint32_t k;
+  };
+  std::vector<Keyed> sorted (finite.size ());
+  for (std::size_t k = 0; k < finite.size (); ++k) {
+    const auto& p = (*input_)[finite[k]];
+    sorted[k] = {p.x, p.y, p.z, static_cast<std::uint32_t> (k)};
+  }
+  std::sort (sorted.begin (), sorted.end (), [] (const Keyed& a, const Keyed& b) {
+    if (a.x != b.x)
+      return a.x < b.x;
+    if (a.y != b.y)
+      return a.y < b.y;
+    if (a.z != b.z)
+      return a.z < b.z;
+    return a.k < b.k;
   });
   std::vector<char> keep (finite.size (), 1);
-  for (std::size_t j = 1; j < order.size (); ++j)
-    if (position (order[j]) == position (order[j - 1])) {
-      keep[order[j]] = 0;
+  for (std::size_t j = 1; j < sorted.size (); ++j)
+    if (sorted[j].x == sorted[j - 1].x && sorted[j].y == sorted[j - 1].y &&
+        sorted[j].z == sorted[j - 1].z) {
+      keep[sorted[j].k] = 0;
       ++report_.num_duplicates;
     }
   pcl::Indices cloud_indices; // pipeline point i is input point cloud_indices[i]
@@ -162,9 +172,9 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   for (std::size_t k = 0; k < finite.size (); ++k)
     if (keep[k])
       cloud_indices.push_back (finite[k]);
-  // 13 MB on a million points that would otherwise live through every stage.
+  // 21 MB on a million points that would otherwise live through every stage.
   pcl::Indices ().swap (finite);
-  std::vector<std::size_t> ().swap (order);
+  std::vector<Keyed> ().swap (sorted);
   std::vector<char> ().swap (keep);
   const std::size_t n = cloud_indices.size ();
   report_.num_points = n;
