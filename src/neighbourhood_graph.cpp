@@ -38,17 +38,25 @@ symmetricGraph (const CsrGraph& neighbourhoods)
         entries[filled[*w]++] = static_cast<pcl::index_t> (v);
       }
 
+  // Rows sorted and de-duplicated in place in parallel (they are independent;
+  // serial, the sorts were most of the graph stage on a million points), then
+  // packed.
   graph.offsets.assign (n + 1, 0);
-  graph.adjacency.reserve (entries.size () / 2 + n);
-  for (std::size_t v = 0; v < n; ++v) {
+  const auto rows = static_cast<std::ptrdiff_t> (n);
+#pragma omp parallel for schedule(static, 4096) if (rows >= 50000)
+  for (std::ptrdiff_t v = 0; v < rows; ++v) {
     const auto first = entries.begin () + count[v];
     const auto last = entries.begin () + count[v + 1];
     std::sort (first, last);
-    const auto unique_end = std::unique (first, last);
-    graph.adjacency.insert (graph.adjacency.end (), first, unique_end);
-    graph.offsets[v + 1] = static_cast<pcl::index_t> (graph.adjacency.size ());
+    graph.offsets[v + 1] = static_cast<pcl::index_t> (std::unique (first, last) - first);
   }
-  graph.adjacency.shrink_to_fit ();
+  for (std::size_t v = 0; v < n; ++v)
+    graph.offsets[v + 1] += graph.offsets[v];
+  graph.adjacency.resize (static_cast<std::size_t> (graph.offsets[n]));
+#pragma omp parallel for schedule(static, 4096) if (rows >= 50000)
+  for (std::ptrdiff_t v = 0; v < rows; ++v)
+    std::copy_n (entries.begin () + count[v], graph.offsets[v + 1] - graph.offsets[v],
+                 graph.adjacency.begin () + graph.offsets[v]);
   return graph;
 }
 
