@@ -45,18 +45,19 @@ segmentsMeet (const Vec2& p, const Vec2& q, const Vec2& r, const Vec2& s)
   return orient2d (p, q, r) * orient2d (p, q, s) <= 0 && orient2d (r, s, p) * orient2d (r, s, q) <= 0;
 }
 
-/** Broad phase: a uniform grid of triangle bounding boxes, hashed by cell. Slots
-  * that change are entered again in their new cells; a query tests candidates'
-  * current boxes, so stale entries cost a box test and nothing else. */
+/** Broad phase: a uniform grid of triangle bounding boxes. Slots that change are
+  * entered again in their new cells; a query tests candidates' current boxes, so
+  * stale entries cost a box test and nothing else. */
 class TriangleGrid
 {
 public:
   /** Only the blocks of block x block x block cells within `reach` cells of the
     * seeds are kept: the repair acts near the folds, and a query leaving those
-    * blocks is refused (candidates() false). Cells are made as triangles enter
-    * them. Measured on the 1M armadillo's raw repair (4,212 seeds, reach 8):
-    * every cell within reach made up front, 1.85 million of them, took 0.33 s and
-    * ~120 MB; of the kept blocks' cells the surface enters a few percent. */
+    * blocks is refused (candidates() false). A kept block has a table of its cells,
+    * and a cell's list is made when a triangle enters it. Measured on the 1M
+    * armadillo's raw repair (4,212 seeds, reach 8): every cell within reach made up
+    * front in a hash map, 1.85 million of them, took 0.33 s and ~120 MB, and the
+    * queries' lookups in it were a sixth of the repair's time. */
   TriangleGrid (const Points3& points,
                 const Triangles& triangles,
                 double cell,
@@ -67,8 +68,11 @@ public:
   {
     const Vec3 r = Vec3::Constant (reach * cell);
     for (const pcl::index_t v : seeds)
-      forRange (blocksOf (rangeOf (points[v] - r, points[v] + r)),
-                [&] (const Cell& b) { blocks_.insert (keyOf (b)); });
+      forRange (blocksOf (rangeOf (points[v] - r, points[v] + r)), [&] (const Cell& b) {
+        if (blocks_.emplace (keyOf (b), static_cast<std::int32_t> (block_origins_.size ())).second)
+          block_origins_.push_back (b);
+      });
+    cell_of_.assign (block_origins_.size () * cells_per_block, -1);
     for (std::size_t t = 0; t < triangles.size (); ++t)
       insert (static_cast<std::int32_t> (t));
   }
@@ -86,9 +90,16 @@ public:
     if (!any)
       return;
     forCells (range, [&] (const Cell& c) {
-      if (!kept (c))
+      const std::ptrdiff_t entry = tableEntry (c);
+      if (entry < 0)
         return;
-      std::vector<std::int32_t>& slots = cells_[keyOf (c)];
+      std::int32_t& id = cell_of_[entry];
+      if (id < 0) {
+        id = static_cast<std::int32_t> (cells_.size ());
+        cells_.emplace_back ();
+        cell_coordinates_.push_back (c);
+      }
+      std::vector<std::int32_t>& slots = cells_[id];
       // Once per cell: swaps tried and undone enter the same slot again and again.
       if (std::find (slots.begin (), slots.end (), t) == slots.end ())
         slots.push_back (t);
@@ -121,24 +132,36 @@ public:
           out.push_back (t);
       }
     };
-    // A box over more blocks than are kept certainly leaves them, and one over
-    // more cells than are made (a far outlier's triangle, a long sliver) is
-    // answered from the made cells inside it: walking all its cells took minutes
+    // A box over more cells than are made (a far outlier's triangle, a long sliver)
+    // is answered from the made cells inside it: walking all its cells took minutes
     // on a fuzzer's cloud.
-    const double blocks = count (blocksOf (range));
-    bool inside = blocks <= static_cast<double> (blocks_.size ());
-    if (inside)
-      forBlocks (range, [&] (const Cell& b) { inside = inside && blocks_.count (keyOf (b)) > 0; });
     if (count (range) > static_cast<double> (cells_.size ())) {
-      for (const auto& [key, slots] : cells_)
-        if (contains (range, cellOf (key)))
-          scan (slots);
-      return inside;
+      for (std::size_t id = 0; id < cells_.size (); ++id)
+        if (contains (range, cell_coordinates_[id]))
+          scan (cells_[id]);
+      return leavesNoBlock (range);
     }
-    forCells (range, [&] (const Cell& c) {
-      const auto it = cells_.find (keyOf (c));
-      if (it != cells_.end ())
-        scan (it->second);
+    bool inside = true;
+    const Range blocks = blocksOf (range);
+    if (blocks.first == blocks.second) {
+      // The common case: one block, looked up once.
+      const auto it = blocks_.find (keyOf (blocks.first));
+      if (it == blocks_.end ())
+        return false;
+      const std::int32_t* table = cell_of_.data () + it->second * cells_per_block;
+      forRange (range, [&] (const Cell& c) {
+        const std::int32_t id = table[local (c)];
+        if (id >= 0)
+          scan (cells_[id]);
+      });
+      return true;
+    }
+    forRange (range, [&] (const Cell& c) {
+      const std::ptrdiff_t entry = tableEntry (c);
+      if (entry < 0)
+        inside = false;
+      else if (cell_of_[entry] >= 0)
+        scan (cells_[cell_of_[entry]]);
     });
     return inside;
   }
@@ -157,6 +180,7 @@ private:
 
   /** Cells per block along each axis. */
   static constexpr std::int64_t block = 8;
+  static constexpr std::size_t cells_per_block = block * block * block;
   /** Cell coordinates are clamped to [-limit, limit - 1]: the conversion is defined,
     * the loops end and keys stay unique; the mapping is monotone, so boxes that
     * overlap still share a cell. */
@@ -176,11 +200,16 @@ private:
     return range;
   }
 
+  static std::int64_t
+  down (std::int64_t x)
+  {
+    return x >= 0 ? x / block : -((-x + block - 1) / block);
+  }
+
   /** The blocks a range of cells touches (floor division). */
   static Range
   blocksOf (const Range& cells)
   {
-    const auto down = [] (std::int64_t x) { return x >= 0 ? x / block : -((-x + block - 1) / block); };
     Range blocks;
     for (int k = 0; k < 3; ++k) {
       blocks.first[k] = down (cells.first[k]);
@@ -189,10 +218,35 @@ private:
     return blocks;
   }
 
-  bool
-  kept (const Cell& c) const
+  /** A cell's place in its block's table. */
+  static std::size_t
+  local (const Cell& c)
   {
-    return blocks_.count (keyOf (blocksOf ({c, c}).first)) > 0;
+    const auto in = [] (std::int64_t x) { return static_cast<std::size_t> (x - down (x) * block); };
+    return (in (c[0]) * block + in (c[1])) * block + in (c[2]);
+  }
+
+  /** Where cell c's id is in the tables (the id is -1 while no triangle entered
+    * it); -1 if its block is not kept. */
+  std::ptrdiff_t
+  tableEntry (const Cell& c) const
+  {
+    const auto it = blocks_.find (keyOf ({down (c[0]), down (c[1]), down (c[2])}));
+    if (it == blocks_.end ())
+      return -1;
+    return static_cast<std::ptrdiff_t> (it->second * cells_per_block + local (c));
+  }
+
+  /** Whether every block the range touches is kept. */
+  bool
+  leavesNoBlock (const Range& range) const
+  {
+    const Range blocks = blocksOf (range);
+    if (count (blocks) > static_cast<double> (blocks_.size ()))
+      return false;
+    bool inside = true;
+    forRange (blocks, [&] (const Cell& b) { inside = inside && blocks_.count (keyOf (b)) > 0; });
+    return inside;
   }
 
   static double
@@ -220,17 +274,6 @@ private:
     return (bits (c[0]) << 42) | (bits (c[1]) << 21) | bits (c[2]);
   }
 
-  /** The cell of a key (21-bit two's complement coordinates). */
-  static Cell
-  cellOf (std::uint64_t key)
-  {
-    const auto coordinate = [] (std::uint64_t bits) {
-      const auto x = static_cast<std::int64_t> (bits & 0x1fffff);
-      return x >= limit ? x - 2 * limit : x;
-    };
-    return {coordinate (key >> 42), coordinate (key >> 21), coordinate (key)};
-  }
-
   template <typename Visit>
   static void
   forRange (const Range& range, Visit visit)
@@ -247,12 +290,11 @@ private:
   void
   forCells (const Range& range, Visit visit) const
   {
-    if (count (range) <= static_cast<double> (blocks_.size ()) * block * block * block) {
+    if (count (range) <= static_cast<double> (cell_of_.size ())) {
       forRange (range, visit);
       return;
     }
-    for (const std::uint64_t key : blocks_) {
-      const Cell b = cellOf (key);
+    for (const Cell& b : block_origins_) {
       Range cells;
       for (int k = 0; k < 3; ++k) {
         cells.first[k] = std::max (range.first[k], b[k] * block);
@@ -264,8 +306,8 @@ private:
     }
   }
 
-  /** The blocks a range of cells touches, or none if they are more than the kept
-    * ones (then the range certainly leaves them). */
+  /** The blocks a range of cells touches, or only the kept ones among them if
+    * they are more than the kept ones. */
   template <typename Visit>
   void
   forBlocks (const Range& range, Visit visit) const
@@ -274,16 +316,19 @@ private:
     if (count (blocks) <= static_cast<double> (blocks_.size ()))
       forRange (blocks, visit);
     else
-      for (const std::uint64_t key : blocks_)
-        if (contains (blocks, cellOf (key)))
-          visit (cellOf (key));
+      for (const Cell& b : block_origins_)
+        if (contains (blocks, b))
+          visit (b);
   }
 
   const Points3& points_;
   const Triangles& triangles_;
   double inverse_cell_;
-  std::unordered_set<std::uint64_t> blocks_;
-  std::unordered_map<std::uint64_t, std::vector<std::int32_t>> cells_;
+  std::unordered_map<std::uint64_t, std::int32_t> blocks_; // kept block -> its table
+  std::vector<Cell> block_origins_;                        // block coordinates per table
+  std::vector<std::int32_t> cell_of_;                      // the tables: cell ids or -1
+  std::vector<std::vector<std::int32_t>> cells_;           // slots per made cell
+  std::vector<Cell> cell_coordinates_;                     // per made cell
   mutable std::vector<std::uint32_t> mark_;
   mutable std::uint32_t stamp_ = 0;
 };
