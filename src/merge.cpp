@@ -25,12 +25,55 @@ edgeKey (pcl::index_t a, pcl::index_t b)
   * the swaps' intersection grid, the repair) then walks memory mostly in order;
   * measured on armadillo_uniform_1m: swaps 4.4 -> 3.2 s. */
 void
-orderBySmallestVertex (Triangles& triangles)
+orderBySmallestVertex (Triangles& triangles, std::size_t n)
 {
-  std::stable_sort (triangles.begin (), triangles.end (),
-                    [] (const Triangle& a, const Triangle& b) {
-                      return std::min ({a[0], a[1], a[2]}) < std::min ({b[0], b[1], b[2]});
-                    });
+  // A counting sort: stable, and linear (std::stable_sort took 0.1 s on two
+  // million triangles).
+  const auto smallest = [] (const Triangle& t) { return std::min ({t[0], t[1], t[2]}); };
+  std::vector<std::size_t> start (n + 1, 0);
+  for (const Triangle& t : triangles)
+    ++start[smallest (t) + 1];
+  for (std::size_t v = 0; v < n; ++v)
+    start[v + 1] += start[v];
+  Triangles ordered (triangles.size ());
+  for (const Triangle& t : triangles)
+    ordered[start[smallest (t)]++] = t;
+  triangles.swap (ordered);
+}
+
+/** The edges used by more than two triangles, as edgeKey sorted: the edges grouped
+  * by their smaller vertex (a counting pass), each group sorted by the larger one
+  * (a sort of all six million keys took 0.3 s on a million points). */
+std::vector<std::uint64_t>
+overusedEdges (const Triangles& triangles, std::size_t n)
+{
+  std::vector<std::uint32_t> start (n + 1, 0);
+  for (const Triangle& t : triangles)
+    for (int k = 0; k < 3; ++k)
+      ++start[std::min (t[k], t[(k + 1) % 3]) + 1];
+  for (std::size_t v = 0; v < n; ++v)
+    start[v + 1] += start[v];
+  std::vector<pcl::index_t> larger (start[n]);
+  {
+    std::vector<std::uint32_t> fill (start.begin (), start.end () - 1);
+    for (const Triangle& t : triangles)
+      for (int k = 0; k < 3; ++k)
+        larger[fill[std::min (t[k], t[(k + 1) % 3])]++] = std::max (t[k], t[(k + 1) % 3]);
+  }
+  std::vector<std::uint64_t> overused;
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto first = larger.begin () + start[v], last = larger.begin () + start[v + 1];
+    std::sort (first, last);
+    for (auto i = first; i != last;) {
+      auto j = i;
+      while (j != last && *j == *i)
+        ++j;
+      if (j - i > 2)
+        overused.push_back (edgeKey (static_cast<pcl::index_t> (v), *i));
+      i = j;
+    }
+  }
+  return overused;
 }
 
 } // namespace
@@ -45,25 +88,18 @@ mergePatches (const std::vector<Triangles>& patches, std::size_t n)
     patch_of.insert (patch_of.end (), patches[p].size (), static_cast<int> (p));
   }
   Triangles& tris = result.triangles;
+  for (const Triangle& t : tris)
+    for (const pcl::index_t v : t)
+      if (v < 0 || static_cast<std::size_t> (v) >= n) {
+        result.message = "a patch triangle names a point out of range";
+        result.triangles.clear ();
+        return result;
+      }
 
-  // Edges used by more than two triangles: sort all edge keys, look for runs > 2.
-  std::vector<std::uint64_t> keys;
-  keys.reserve (3 * tris.size ());
-  for (const auto& t : tris)
-    for (int k = 0; k < 3; ++k)
-      keys.push_back (edgeKey (t[k], t[(k + 1) % 3]));
-  std::sort (keys.begin (), keys.end ());
-  std::vector<std::uint64_t> overused;
-  for (std::size_t i = 0; i < keys.size ();) {
-    std::size_t j = i;
-    while (j < keys.size () && keys[j] == keys[i])
-      ++j;
-    if (j - i > 2)
-      overused.push_back (keys[i]);
-    i = j;
-  }
+  // Edges used by more than two triangles.
+  const std::vector<std::uint64_t> overused = overusedEdges (tris, n);
   if (overused.empty ()) {
-    orderBySmallestVertex (tris);
+    orderBySmallestVertex (tris, n);
     result.success = true;
     return result;
   }
@@ -141,7 +177,7 @@ mergePatches (const std::vector<Triangles>& patches, std::size_t n)
       return result;
     }
   }
-  orderBySmallestVertex (tris);
+  orderBySmallestVertex (tris, n);
   result.success = true;
   return result;
 }
