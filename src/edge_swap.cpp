@@ -510,7 +510,9 @@ public:
       updateNormal (t);
     if (perEdge ()) {
       term_.resize (edge_he_.size ());
-      for (std::size_t e = 0; e < edge_he_.size (); ++e)
+      const auto edges = static_cast<std::ptrdiff_t> (edge_he_.size ());
+#pragma omp parallel for schedule(static, 4096) num_threads(threads_) if (edges >= parallel_from)
+      for (std::ptrdiff_t e = 0; e < edges; ++e)
         term_[e] = edgeTerm (static_cast<std::int32_t> (e));
     }
     // A vertex is manifold when one walk around it meets all its outgoing half-edges.
@@ -521,16 +523,24 @@ public:
       if (vert_he_[from (h)] < 0)
         vert_he_[from (h)] = static_cast<std::int32_t> (h);
     }
-    Link link;
-    for (std::size_t v = 0; v < p_.size (); ++v)
-      if (vert_he_[v] >= 0) {
-        gatherLink (static_cast<std::int32_t> (v), link);
-        const std::size_t fan = link.closed ? link.w.size () : link.w.size () - 1;
-        if (fan != static_cast<std::size_t> (outgoing[v])) {
-          message_ = "the mesh has a non-manifold vertex";
-          return false;
+    // Each vertex on its own: read-only, so in parallel.
+    const auto vertices = static_cast<std::ptrdiff_t> (p_.size ());
+    bool manifold = true;
+#pragma omp parallel num_threads(threads_) if (vertices >= parallel_from) reduction(&& : manifold)
+    {
+      Link link;
+#pragma omp for schedule(static, 4096)
+      for (std::ptrdiff_t v = 0; v < vertices; ++v)
+        if (vert_he_[v] >= 0) {
+          gatherLink (static_cast<std::int32_t> (v), link);
+          const std::size_t fan = link.closed ? link.w.size () : link.w.size () - 1;
+          manifold = manifold && fan == static_cast<std::size_t> (outgoing[v]);
         }
-      }
+    }
+    if (!manifold) {
+      message_ = "the mesh has a non-manifold vertex";
+      return false;
+    }
     return true;
   }
 
