@@ -589,6 +589,43 @@ TEST (MeshChecks, GeodesicSphereAndAVertexPushedThrough)
   EXPECT_EQ (again.mean_min_angle_deg, pierced.mean_min_angle_deg);
 }
 
+TEST (MeshChecks, TopologyBesideGeometryGivesTheSameReport)
+{
+  // Large enough for the topology to run beside the geometry with several
+  // threads (concurrent_from); with one thread they run one after the other.
+  Mesh m = geodesicSphere (80);
+  ASSERT_GE (m.triangles.size (), 100000u);
+  m.vertices[1000] *= -1.2;   // a fan through the far side: pairs to find
+  m.triangles.push_back (m.triangles[5]); // a duplicate: topology and geometry both count
+  m.triangles.push_back ({7, 7, 8});      // a repeated index (topology's degenerate)
+  MeshCheckOptions single;
+  single.num_threads = 1;
+  single.max_listed_intersections = 64;
+  MeshCheckOptions two = single;
+  two.num_threads = 2;
+  const MeshReport a = checkMesh (m.vertices, m.triangles, single);
+  const MeshReport b = checkMesh (m.vertices, m.triangles, two);
+  ASSERT_TRUE (a.success && b.success);
+  EXPECT_GT (a.self_intersecting_pairs, 0u);
+  EXPECT_FALSE (a.intersecting_pairs.empty ());
+  EXPECT_EQ (a.degenerate_triangles, 1u);
+  EXPECT_EQ (a.duplicate_triangles, 1u);
+  EXPECT_GT (a.signed_volume, 3.0);
+  EXPECT_GT (a.mean_min_angle_deg, 40.0);
+  EXPECT_EQ (describe (a), describe (b));
+  EXPECT_EQ (a.num_faces, b.num_faces);
+  EXPECT_EQ (a.num_edges, b.num_edges);
+  EXPECT_EQ (a.degenerate_triangles, b.degenerate_triangles);
+  EXPECT_EQ (a.duplicate_triangles, b.duplicate_triangles);
+  EXPECT_EQ (a.non_manifold_edges, b.non_manifold_edges);
+  EXPECT_EQ (a.euler_characteristic, b.euler_characteristic);
+  EXPECT_EQ (a.self_intersecting_pairs, b.self_intersecting_pairs);
+  EXPECT_EQ (a.intersecting_pairs, b.intersecting_pairs);
+  EXPECT_EQ (a.signed_volume, b.signed_volume);
+  EXPECT_EQ (a.mean_min_angle_deg, b.mean_min_angle_deg);
+  EXPECT_EQ (a.share_min_angle_below_10, b.share_min_angle_below_10);
+}
+
 TEST (MeshChecks, EmptyAndUncheckedIntersections)
 {
   const MeshReport empty = checkMesh ({}, {});
