@@ -112,38 +112,6 @@ TEST (SphericalMeshlessReconstruction, OtherPointTypesAndTheVerticesOverload)
   expectClosedGenusZero (polygons, range (colour->size ()));
 }
 
-TEST (SphericalMeshlessReconstruction, TheSearchStructureHoldsTheInputAfterwards)
-{
-  // As after MeshConstruction's own set-up, though the class builds it itself,
-  // beside the preparation of the points: a kd-tree if none was given, the
-  // user's otherwise, over the input and its indices.
-  auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 1500);
-  auto indices = pcl::make_shared<pcl::Indices> ();
-  for (pcl::index_t i = 0; i < 1500; i += 2)
-    indices->push_back (i);
-  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> own;
-  own.setInputCloud (cloud);
-  own.setIndices (indices);
-  std::vector<pcl::Vertices> polygons;
-  own.reconstruct (polygons);
-  ASSERT_TRUE (own.getReport ().success) << own.getReport ().message;
-  ASSERT_TRUE (own.getSearchMethod ());
-  EXPECT_EQ (own.getSearchMethod ()->getInputCloud (), cloud);
-  ASSERT_TRUE (own.getSearchMethod ()->getIndices ());
-  EXPECT_EQ (*own.getSearchMethod ()->getIndices (), *indices);
-  expectClosedGenusZero (polygons, std::set<pcl::index_t> (indices->begin (), indices->end ()));
-
-  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> given;
-  const auto tree = pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>> ();
-  given.setSearchMethod (tree);
-  given.setInputCloud (cloud);
-  given.reconstruct (polygons);
-  ASSERT_TRUE (given.getReport ().success) << given.getReport ().message;
-  EXPECT_EQ (given.getSearchMethod (), tree);
-  EXPECT_EQ (tree->getInputCloud (), cloud);
-  expectClosedGenusZero (polygons, range (cloud->size ()));
-}
-
 TEST (SphericalMeshlessReconstruction, HonoursIndicesNonFinitePointsAndDuplicates)
 {
   auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 3000);

@@ -151,7 +151,6 @@ public:
   using MeshConstruction<PointInT>::input_;
   using MeshConstruction<PointInT>::indices_;
   using MeshConstruction<PointInT>::tree_;
-  using MeshConstruction<PointInT>::check_tree_;
 
   /** \brief The topology of the surface the cloud samples. */
   enum class Topology
@@ -163,10 +162,7 @@ public:
   using BasePolyhedron = meshless::BasePolyhedron;
   using ProgressCallback = meshless::ProgressCallback;
 
-  /** \brief The search structure (setSearchMethod, or a kd-tree) gets the input
-    * inside reconstruct (), built beside the input's preparation rather than before
-    * it, as MeshConstruction would (check_tree_ is off). */
-  SphericalMeshlessReconstruction () { check_tree_ = false; }
+  SphericalMeshlessReconstruction () = default;
   ~SphericalMeshlessReconstruction () override = default;
 
   /** \brief Number of nearest neighbours k of each point (paper: about 10-12).

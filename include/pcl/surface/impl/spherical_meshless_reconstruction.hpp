@@ -8,8 +8,6 @@
 
 #include <limits>
 #include <pcl/conversions.h>
-#include <pcl/search/kdtree.h>
-#include <pcl/search/organized.h>
 #include <pcl/surface/meshless/freed_memory.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
@@ -20,9 +18,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <exception>
 #include <numeric>
-#include <thread>
 
 namespace pcl {
 
@@ -129,34 +125,6 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     return fail ("the number of neighbours must be at least 3 (setNumberOfNeighbours)");
   if (base_retries_ < 0)
     return fail ("the number of base mesh retries must not be negative (setBaseRetries)");
-  // The search structure over the input, built on a thread of its own while the
-  // points are prepared below: MeshConstruction would build it first (check_tree_
-  // is off, see the constructor), and a million points' kd-tree takes 0.4 s.
-  if (!tree_) {
-    if (input_->isOrganized ())
-      tree_.reset (new pcl::search::OrganizedNeighbor<PointInT> ());
-    else
-      tree_.reset (new pcl::search::KdTree<PointInT> (false));
-  }
-  std::exception_ptr tree_failure;
-  std::thread tree_building ([&] {
-    try {
-      tree_->setInputCloud (input_, indices_);
-    } catch (...) {
-      tree_failure = std::current_exception ();
-    }
-  });
-  // Joined on every way out, early failures included.
-  struct Joined
-  {
-    std::thread& thread;
-    ~Joined ()
-    {
-      if (thread.joinable ())
-        thread.join ();
-    }
-  } joined{tree_building};
-
   // Finite points through indices_ (a repeated index is the same point), then
   // exact duplicates merged into the first.
   pcl::Indices finite;
@@ -289,18 +257,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     report_.stage_seconds.emplace_back (stage.stage, stage.seconds);
     return progress_ ? progress_ (stage) : true;
   };
-  // The neighbourhoods stage counts the wait for the tree.
   const auto search_start = std::chrono::steady_clock::now ();
-  tree_building.join ();
-  if (tree_failure) {
-    try {
-      std::rethrow_exception (tree_failure);
-    } catch (const std::exception& e) {
-      return fail (std::string ("the search structure could not be built: ") + e.what ());
-    } catch (...) {
-      return fail ("the search structure could not be built");
-    }
-  }
   meshless::NeighbourhoodOptions neighbourhood;
   neighbourhood.k = k_;
   neighbourhood.radius = radius_;
