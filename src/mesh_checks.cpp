@@ -21,6 +21,7 @@
 #include <limits>
 #include <numeric>
 #include <sstream>
+#include <system_error>
 #include <thread>
 
 namespace pcl {
@@ -824,15 +825,22 @@ checkMesh (const Points3& vertices,
     // side, each into its own report (measured on the 1M armadillo's mesh, 2M
     // triangles: checkMesh 1.10 -> 0.9-1.0 s; in the class, each check 0.15 s less).
     MeshReport geometry = report;
+    std::thread topology;
+    std::exception_ptr topology_failure;
     if (threadCount (options) > 1 && triangles.size () >= concurrent_from) {
-      std::exception_ptr topology_failure;
-      std::thread topology ([&] {
-        try {
-          Topology (triangles, vertices.size (), report).run ();
-        } catch (...) {
-          topology_failure = std::current_exception ();
-        }
-      });
+      try {
+        topology = std::thread ([&] {
+          try {
+            Topology (triangles, vertices.size (), report).run ();
+          } catch (...) {
+            topology_failure = std::current_exception ();
+          }
+        });
+      } catch (const std::system_error&) {
+        // No thread to be had (a process at its limit): one after the other.
+      }
+    }
+    if (topology.joinable ()) {
       try {
         Geometry (vertices, triangles, options, geometry).run ();
       } catch (...) {
