@@ -3,6 +3,7 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include <pcl/surface/meshless/edge_swap.h>
+#include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/triangle_intersection.h>
 
 #include <Eigen/Geometry>
@@ -459,27 +460,16 @@ public:
       message_ = "too many triangles for 32-bit half-edge indices";
       return false;
     }
-    // Half-edges grouped by the smaller vertex of their edge, ordered within a
-    // group by (larger vertex, half-edge): edges are numbered in the order of
-    // (smaller, larger) vertex. A radix sort of 64-bit keys did the same with 192 MB
-    // of pairs and buffer on a million points; these groups take 52 MB.
+    // Edges numbered in the order of (smaller, larger) vertex. A radix sort of
+    // 64-bit keys did the same with 192 MB of pairs and buffer on a million points;
+    // the groups take 52 MB.
     const std::size_t n = p_.size ();
-    std::vector<std::uint32_t> group (n + 1, 0);
-    for (std::size_t h = 0; h < nh; ++h)
-      ++group[std::min (from (h), to (h)) + 1];
-    for (std::size_t v = 0; v < n; ++v)
-      group[v + 1] += group[v];
-    std::vector<std::pair<std::int32_t, std::int32_t>> ends (nh); // (larger vertex, half-edge)
-    {
-      std::vector<std::uint32_t> fill (group.begin (), group.end () - 1);
-      for (std::size_t h = 0; h < nh; ++h)
-        ends[fill[std::min (from (h), to (h))]++] = {std::max (from (h), to (h)), static_cast<std::int32_t> (h)};
-    }
+    const HalfEdgeGroups groups = groupHalfEdges (tri_, n);
     opp_.assign (nh, -1);
     edge_of_.assign (nh, -1);
     for (std::size_t v = 0; v < n; ++v) {
-      const auto first = ends.begin () + group[v], last = ends.begin () + group[v + 1];
-      std::sort (first, last);
+      const auto first = groups.ends.begin () + groups.start[v];
+      const auto last = groups.ends.begin () + groups.start[v + 1];
       for (auto i = first; i != last;) {
         auto j = i + 1;
         while (j != last && j->first == i->first)

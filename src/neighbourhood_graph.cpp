@@ -60,6 +60,30 @@ symmetricGraph (const CsrGraph& neighbourhoods)
   return graph;
 }
 
+HalfEdgeGroups
+groupHalfEdges (const Triangles& triangles, std::size_t n)
+{
+  HalfEdgeGroups groups;
+  groups.start.assign (n + 1, 0);
+  for (const Triangle& t : triangles)
+    for (int j = 0; j < 3; ++j)
+      ++groups.start[std::min (t[j], t[(j + 1) % 3]) + 1];
+  for (std::size_t v = 0; v < n; ++v)
+    groups.start[v + 1] += groups.start[v];
+  groups.ends.resize (groups.start[n]);
+  {
+    std::vector<std::uint32_t> fill (groups.start.begin (), groups.start.end () - 1);
+    for (std::size_t t = 0; t < triangles.size (); ++t)
+      for (int j = 0; j < 3; ++j) {
+        const pcl::index_t a = triangles[t][j], b = triangles[t][(j + 1) % 3];
+        groups.ends[fill[std::min (a, b)]++] = {std::max (a, b), static_cast<std::int32_t> (3 * t + j)};
+      }
+  }
+  for (std::size_t v = 0; v < n; ++v)
+    std::sort (groups.ends.begin () + groups.start[v], groups.ends.begin () + groups.start[v + 1]);
+  return groups;
+}
+
 CsrGraph
 transposeGraph (const CsrGraph& graph)
 {
