@@ -89,6 +89,38 @@ TEST (OrderedNeighbourhoods, RingOfARegularHexagonIsItsSixCorners)
   EXPECT_NEAR (gap, pi / 3.0, 1e-12);
 }
 
+TEST (OrderedNeighbourhoods, RingOfALatticePointIsItsFourAxisNeighbours)
+{
+  // The diagonal neighbours of a square lattice are co-circular with two axis
+  // neighbours: their Voronoi edges with the origin have zero length. Points two
+  // steps away are hidden; a repeated axis neighbour joins the ring at most once.
+  Points2 local;
+  for (int x = -2; x <= 2; ++x)
+    for (int y = -2; y <= 2; ++y)
+      if (x != 0 || y != 0)
+        local.emplace_back (0.01 * x, 0.01 * y);
+  local.emplace_back (0.01, 0.0);
+  std::vector<int> ring;
+  const double gap = delaunayRing (local, ring);
+  ASSERT_EQ (ring.size (), 4u);
+  for (int r : ring)
+    EXPECT_NEAR (local[r].norm (), 0.01, 1e-15) << "not an axis neighbour";
+  EXPECT_NEAR (gap, pi / 2.0, 1e-12);
+}
+
+TEST (OrderedNeighbourhoods, RingOfAPointOnTheRimOpensTowardsTheOutside)
+{
+  // All neighbours in one half plane: the cell is unbounded, the ring the two
+  // extreme directions and whatever the half ring's Voronoi edges reach.
+  Points2 local = {{1.0, 0.0}, {0.0, 1.0}, {-1.0, 0.0}, {0.0, 2.5}, {0.5, 0.5}};
+  std::vector<int> ring;
+  const double gap = delaunayRing (local, ring);
+  std::vector<int> sorted_ring = ring;
+  std::sort (sorted_ring.begin (), sorted_ring.end ());
+  EXPECT_EQ (sorted_ring, bruteForceDelaunayNeighbours (local));
+  EXPECT_NEAR (gap, pi, 1e-12) << "the largest gap is the open side";
+}
+
 TEST (OrderedNeighbourhoods, RingMatchesBruteForceDelaunay)
 {
   std::mt19937 random (42);
