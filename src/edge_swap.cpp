@@ -344,25 +344,6 @@ angleBetween (const Vec3& u, const Vec3& v)
   return pi - arctanUnit (s / -c);
 }
 
-/** Whether the angles at c and d opposite edge a-b of the triangles (a, b, c),
-  * (b, a, d) sum to more than pi + 1e-9: then a-b is not locally Delaunay. Decided on
-  * the sine and cosine of the excess (from dot and cross products), which is more
-  * accurate than adding two angles and needs no arctangent. */
-bool
-oppositeAnglesExceedPi (const Vec3& a, const Vec3& b, const Vec3& c, const Vec3& d)
-{
-  const Vec3 ca = a - c, cb = b - c, db = b - d, da = a - d;
-  const double cos_c = ca.dot (cb), sin_c = ca.cross (cb).norm ();
-  const double cos_d = db.dot (da), sin_d = db.cross (da).norm ();
-  // Both scaled by the four edge lengths: sin and cos of (angle c + angle d - pi).
-  const double sine = -(sin_c * cos_d + cos_c * sin_d);
-  const double cosine = -(cos_c * cos_d - sin_c * sin_d);
-  // atan2 (sine, cosine) > 1e-9, with tan (1e-9) = 1e-9 in double precision.
-  if (sine > 0.0)
-    return cosine <= 0.0 || sine > 1e-9 * cosine;
-  return sine == 0.0 && cosine < 0.0;
-}
-
 /** The plane of a triangle prepared for many certified side tests: side (x) is +1 or
   * -1 when x is certainly on that side of the plane (the sign of orient3d of the
   * triangle and x), 0 when floating point cannot tell. It settles most pairs of a
@@ -1527,6 +1508,27 @@ allVerticesUsed (std::size_t n, const Triangles& triangles)
 }
 
 } // namespace
+
+// Decided on the sine and cosine of the excess (from dot and cross products), which
+// is more accurate than adding two angles and needs no arctangent.
+bool
+oppositeAnglesExceedPi (const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b,
+                        const Eigen::Vector3d& c,
+                        const Eigen::Vector3d& d)
+{
+  const Eigen::Vector3d ca = a - c, cb = b - c, db = b - d, da = a - d;
+  const double cos_c = ca.dot (cb), sin_c = ca.cross (cb).norm ();
+  const double cos_d = db.dot (da), sin_d = db.cross (da).norm ();
+  // Both scaled by the four edge lengths: sin and cos of (angle c + angle d - pi).
+  const double sine = -(sin_c * cos_d + cos_c * sin_d);
+  const double cosine = -(cos_c * cos_d - sin_c * sin_d);
+  // atan2 (sine, cosine) > 1e-9, with tan (1e-9) = 1e-9 in double precision.
+  if (sine > 0.0)
+    return cosine <= 0.0 || sine > 1e-9 * cosine;
+  return sine == 0.0 && cosine < 0.0;
+}
+
 
 EdgeSwapResult
 optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOptions& options)

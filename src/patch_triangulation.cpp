@@ -16,7 +16,8 @@ triangulatePatch (const Points3& points,
                   const Weights& weights,
                   const Patch& patch,
                   const SolveOptions& options,
-                  const PatchRingContext* rings)
+                  const PatchRingContext* rings,
+                  const PatchFlipOptions& flips)
 {
   PatchTriangulation result;
   const std::size_t loop_size = patch.loop.size ();
@@ -27,21 +28,26 @@ triangulatePatch (const Points3& points,
     return result;
   }
 
-  const Points2 boundary_uv = circleBoundary (points, patch.loop);
-  const MeshlessSystem system =
-      buildMeshlessSystem (weights, patch.points, patch.loop, boundary_uv, rings);
-  if (!system.success) {
-    result.message = system.message;
-    return result;
+  Parameterization map;
+  {
+    // The system goes before the triangulation starts: with the patches solved in
+    // parallel, another patch's factorization may be running (the peak memory of
+    // large clouds).
+    const Points2 boundary_uv = circleBoundary (points, patch.loop);
+    const MeshlessSystem system =
+        buildMeshlessSystem (weights, patch.points, patch.loop, boundary_uv, rings);
+    if (!system.success) {
+      result.message = system.message;
+      return result;
+    }
+    map = solveMeshlessSystem (system, patch.points, patch.loop, boundary_uv, options);
   }
-  Parameterization map =
-      solveMeshlessSystem (system, patch.points, patch.loop, boundary_uv, options);
   if (!map.success) {
     result.message = map.message;
     return result;
   }
 
-  const Delaunay2DResult delaunay = delaunay2D (map.uv);
+  Delaunay2DResult delaunay = delaunay2D (map.uv);
   if (!delaunay.success) {
     result.message = "the Delaunay triangulation of the parameter points failed: " +
                      delaunay.message;
@@ -72,14 +78,17 @@ triangulatePatch (const Points3& points,
     return result;
   }
 
+  if (flips.enabled)
+    result.flips = flipFlatEdgesInPatch (points, patch.points, map.uv, delaunay.triangles, flips);
+
   result.smallest_edge = std::numeric_limits<double>::infinity ();
-  result.triangles.reserve (expected);
-  for (const Triangle& t : delaunay.triangles) {
+  for (Triangle& t : delaunay.triangles) {
     for (int k = 0; k < 3; ++k)
       result.smallest_edge =
           std::min (result.smallest_edge, (map.uv[t[k]] - map.uv[t[(k + 1) % 3]]).norm ());
-    result.triangles.push_back ({patch.points[t[0]], patch.points[t[1]], patch.points[t[2]]});
+    t = {patch.points[t[0]], patch.points[t[1]], patch.points[t[2]]}; // in place: one copy less
   }
+  result.triangles = std::move (delaunay.triangles);
   result.uv = std::move (map.uv);
   result.success = true;
   return result;

@@ -248,11 +248,14 @@ triangulateSphere (const Points3& points,
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t> (faces); ++k) {
       const std::size_t f = largest_first[k];
-      triangulated[f] = triangulatePatch (points, weights, split.patches[f], solve, &patch_rings);
+      triangulated[f] = triangulatePatch (points, weights, split.patches[f], solve, &patch_rings,
+                                          options.patch_flips);
+      Points2 ().swap (triangulated[f].uv); // not needed here; memory at the peak
     }
     std::vector<Triangles> patch_triangles;
     bool all_patches = true;
     stats.smallest_parameter_edge = 1.0;
+    stats.patch_flips = 0;
     for (auto& patch : triangulated) {
       if (!patch.success) {
         last_problem = patch.message;
@@ -260,13 +263,15 @@ triangulateSphere (const Points3& points,
         break;
       }
       stats.smallest_parameter_edge = std::min (stats.smallest_parameter_edge, patch.smallest_edge);
+      stats.patch_flips += patch.flips;
       patch_triangles.push_back (std::move (patch.triangles));
     }
     if (!all_patches) {
       rebuild ();
       continue;
     }
-    if (!clock.done ("patches", 0.9))
+    if (!clock.done ("patches", 0.9,
+                     options.patch_flips.enabled ? std::to_string (stats.patch_flips) + " flips" : ""))
       return cancelled ();
 
     MergedTriangulation merged = mergePatches (patch_triangles, n);

@@ -6,6 +6,8 @@
 #include <pcl/surface/meshless/mesh_checks.h>
 #include <pcl/surface/meshless/mesh_distance.h>
 
+#include "test_support.h"
+
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -27,26 +29,8 @@ undirected (pcl::index_t u, pcl::index_t v)
   return {std::min (u, v), std::max (u, v)};
 }
 
-/** Undirected edge -> number of triangles using it. */
-std::map<Edge, int>
-edgeUse (const Triangles& triangles)
-{
-  std::map<Edge, int> use;
-  for (const Triangle& t : triangles)
-    for (int i = 0; i < 3; ++i)
-      ++use[undirected (t[i], t[(i + 1) % 3])];
-  return use;
-}
-
-std::set<Edge>
-boundaryEdges (const Triangles& triangles)
-{
-  std::set<Edge> boundary;
-  for (const auto& [edge, count] : edgeUse (triangles))
-    if (count == 1)
-      boundary.insert (edge);
-  return boundary;
-}
+using meshless_test::boundaryEdges;
+using meshless_test::edgeUse;
 
 bool
 hasEdge (const Triangles& triangles, pcl::index_t u, pcl::index_t v)

@@ -101,6 +101,31 @@ TEST (SpherePipeline, EveryBasePolyhedronAndWeightTypeCloseUp)
   }
 }
 
+TEST (SpherePipeline, FlipsInsideThePatchesKeepTheSphereAndLeaveTheSwapsLessToDo)
+{
+  // The swaps' angle pass started in the patches (flipFlatEdgesInPatch): the raw
+  // mesh is still a closed sphere, its triangles turn outward, and the angle pass
+  // of the swaps finds most of its work done.
+  const Points3 points = sampleShape (SyntheticShape::BumpySphere, {4000, 11, 0.0});
+  const CsrGraph nb = meshless_test::bruteForceKnn (points, 12);
+  const SphereTriangulation plain = triangulateSphere (points, nb);
+  SpherePipelineOptions options;
+  options.patch_flips.enabled = true;
+  const SphereTriangulation flipped = triangulateSphere (points, nb, options);
+  expectClosedSphere (points, flipped);
+  ASSERT_TRUE (plain.success) << plain.message;
+  EXPECT_EQ (plain.stats.patch_flips, 0u);
+  EXPECT_GT (flipped.stats.patch_flips, 0u);
+  EXPECT_NE (flipped.triangles, plain.triangles);
+  Triangles after_plain = plain.triangles, after_flipped = flipped.triangles;
+  const EdgeSwapResult swaps_plain = optimizeBySwaps (points, after_plain);
+  const EdgeSwapResult swaps_flipped = optimizeBySwaps (points, after_flipped);
+  ASSERT_TRUE (swaps_plain.success && swaps_flipped.success);
+  EXPECT_LT (swaps_flipped.angle_swaps, swaps_plain.angle_swaps / 2)
+      << swaps_flipped.angle_swaps << " angle swaps after the flips, " << swaps_plain.angle_swaps
+      << " without";
+}
+
 TEST (SpherePipeline, DeterministicAndReportsEveryStage)
 {
   const Points3 points = sampleShape (SyntheticShape::Ellipsoid, {2500, 4, 0.0});

@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <map>
+#include <set>
 #include <utility>
 #include <vector>
 #include <cstdlib>
@@ -145,6 +146,31 @@ geodesicSphere (int k)
       }
   }
   return m;
+}
+
+/** An undirected edge as (smaller, larger) vertex. */
+using Edge = std::pair<pcl::index_t, pcl::index_t>;
+
+/** Undirected edge -> number of triangles using it. */
+inline std::map<Edge, int>
+edgeUse (const pcl::meshless::Triangles& triangles)
+{
+  std::map<Edge, int> use;
+  for (const auto& t : triangles)
+    for (int i = 0; i < 3; ++i)
+      ++use[std::minmax (t[i], t[(i + 1) % 3])];
+  return use;
+}
+
+/** The edges in one triangle only. */
+inline std::set<Edge>
+boundaryEdges (const pcl::meshless::Triangles& triangles)
+{
+  std::set<Edge> boundary;
+  for (const auto& [edge, count] : edgeUse (triangles))
+    if (count == 1)
+      boundary.insert (edge);
+  return boundary;
 }
 
 } // namespace meshless_test

@@ -291,6 +291,10 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     options.weights = weights_;
     options.polyhedron = polyhedron_;
     options.progress = record;
+    // The swaps' angle pass starts inside the patches, where they are triangulated
+    // in parallel (flipFlatEdgesInPatch); the swaps find most of it done.
+    options.patch_flips.enabled = optimize_ && swap_options_.improve_angles;
+    options.patch_flips.max_dihedral_deg = swap_options_.angle_pass_max_dihedral_deg;
     if (!base_faces_.empty ()) {
       // The user's base mesh refers to cloud indices; the pipeline to its points.
       std::vector<std::pair<pcl::index_t, pcl::index_t>> pipeline_of; // (cloud, pipeline)

@@ -170,6 +170,15 @@ struct EdgeSwapResult : StageStatus
   bool noisy = false;
 };
 
+/** \brief Whether the angles at c and d opposite edge a-b of the triangles (a, b, c)
+  * and (b, a, d) sum to more than pi + 1e-9: then a-b is not locally Delaunay (the
+  * angle pass's test, also used by flipFlatEdgesInPatch). */
+bool
+oppositeAnglesExceedPi (const Eigen::Vector3d& a,
+                        const Eigen::Vector3d& b,
+                        const Eigen::Vector3d& c,
+                        const Eigen::Vector3d& d);
+
 /** \brief Improves a triangle mesh by edge swaps only: greedy descent of a discrete
   * curvature cost with a heap of interior edges keyed by the cost change of swapping
   * (lazily invalidated), optionally removing self-intersections.

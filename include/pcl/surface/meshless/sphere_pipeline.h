@@ -7,6 +7,7 @@
 #include <pcl/surface/meshless/base_mesh.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
 #include <pcl/surface/meshless/parameterization.h>
+#include <pcl/surface/meshless/patch_flips.h>
 #include <pcl/surface/meshless/types.h>
 #include <pcl/surface/meshless/weights.h>
 
@@ -64,6 +65,10 @@ struct SpherePipelineOptions
     * false. */
   bool separate_thin_sheets = false;
   SolveOptions solve;
+  /** \brief The edge swaps' angle pass inside each patch, in parallel with the
+    * other patches' solves (flipFlatEdgesInPatch). Default: off; the class turns it
+    * on when its optimization runs the angle pass. */
+  PatchFlipOptions patch_flips;
   ProgressCallback progress;
 };
 
@@ -87,6 +92,8 @@ struct SpherePipelineStats
   std::size_t thin_part_edges = 0;
   std::size_t weight_fallbacks = 0;
   double smallest_parameter_edge = 0.0;
+  /** \brief Edges flipped inside the patches (SpherePipelineOptions::patch_flips). */
+  std::size_t patch_flips = 0;
   /** \brief Times the rings and the mutual graph were built again for a next
     * attempt: they are released before the patch solves (for the peak memory) and
     * rebuilt when a patch or the merge fails. */
