@@ -87,13 +87,20 @@ merge (const Box& a, const Box& b)
 class BoxTree
 {
 public:
-  explicit BoxTree (std::vector<Box> boxes) : boxes_ (std::move (boxes))
+  /** \param[in] boxes in the order the tree splits them
+    * \param[in] changed optional, per box: pairs of two boxes not marked are not
+    *            visited (empty: every pair is) */
+  explicit BoxTree (std::vector<Box> boxes, std::vector<char> changed = {})
+      : boxes_ (std::move (boxes)), changed_ (std::move (changed))
   {
     if (boxes_.empty ())
       return;
+    if (changed_.size () != boxes_.size ())
+      changed_.assign (boxes_.size (), 1);
     // Median splits leave at least (leaf_size + 1) / 2 boxes per leaf, and a binary
     // tree has fewer than twice as many nodes as leaves.
     nodes_.reserve (2 * (boxes_.size () / ((leaf_size + 1) / 2)) + 1);
+    node_changed_.reserve (nodes_.capacity ());
     build (0, static_cast<std::uint32_t> (boxes_.size ()));
   }
 
@@ -115,6 +122,8 @@ public:
       for (const auto& [a, b] : tasks) {
         const Node& na = nodes_[a];
         const Node& nb = nodes_[b];
+        if (!node_changed_[a] && !node_changed_[b])
+          continue; // no pair there to visit
         if (a == b) {
           if (na.right == 0)
             next.emplace_back (a, a);
@@ -166,10 +175,12 @@ private:
   self (std::uint32_t a, Visit& visit) const
   {
     const Node& node = nodes_[a];
+    if (!node_changed_[a])
+      return;
     if (node.right == 0) {
       for (std::uint32_t p = node.begin; p < node.end; ++p)
         for (std::uint32_t q = p + 1; q < node.end; ++q)
-          if (overlap (boxes_[p], boxes_[q]))
+          if ((changed_[p] || changed_[q]) && overlap (boxes_[p], boxes_[q]))
             visit (p, q);
       return;
     }
@@ -186,14 +197,14 @@ private:
   {
     const Node& na = nodes_[a];
     const Node& nb = nodes_[b];
-    if (!overlap (na.box, nb.box))
+    if ((!node_changed_[a] && !node_changed_[b]) || !overlap (na.box, nb.box))
       return;
     if (na.right == 0 && nb.right == 0) {
       for (std::uint32_t p = na.begin; p < na.end; ++p) {
-        if (!overlap (boxes_[p], nb.box))
+        if ((!changed_[p] && !node_changed_[b]) || !overlap (boxes_[p], nb.box))
           continue;
         for (std::uint32_t q = nb.begin; q < nb.end; ++q)
-          if (overlap (boxes_[p], boxes_[q]))
+          if ((changed_[p] || changed_[q]) && overlap (boxes_[p], boxes_[q]))
             visit (p, q);
       }
       return;
@@ -213,9 +224,12 @@ private:
   {
     const auto index = static_cast<std::uint32_t> (nodes_.size ());
     nodes_.push_back ({boxes_[begin], begin, end, 0});
+    node_changed_.push_back (changed_[begin]);
     if (end - begin <= leaf_size) {
-      for (std::uint32_t i = begin + 1; i < end; ++i)
+      for (std::uint32_t i = begin + 1; i < end; ++i) {
         nodes_[index].box = merge (nodes_[index].box, boxes_[i]);
+        node_changed_[index] = static_cast<char> (node_changed_[index] | changed_[i]);
+      }
       return index;
     }
     const std::uint32_t middle = begin + (end - begin) / 2;
@@ -223,11 +237,16 @@ private:
     const std::uint32_t right = build (middle, end);
     nodes_[index].right = right;
     nodes_[index].box = merge (nodes_[index + 1].box, nodes_[right].box);
+    node_changed_[index] = static_cast<char> (node_changed_[index + 1] | node_changed_[right]);
     return index;
   }
 
   std::vector<Box> boxes_;
+  /** Per box and per node: whether it (or a box below it) takes part in the pairs to
+    * visit (all, unless the caller knows some pairs apart). */
+  std::vector<char> changed_;
   std::vector<Node> nodes_;
+  std::vector<char> node_changed_;
 };
 
 // ---------------------------------------------------------------------------
@@ -661,7 +680,16 @@ private:
       if (axis_[t] >= 0)
         order.push_back (static_cast<std::uint32_t> (t));
     std::vector<Box> boxes = sortedBoxes (order);
-    const BoxTree tree (std::move (boxes));
+    // Pairs of triangles the caller knows apart are not visited (see
+    // MeshCheckOptions::known_apart).
+    std::vector<char> changed;
+    const std::vector<char>* known = options_.known_apart;
+    if (known && known->size () == triangles_.size ()) {
+      changed.resize (order.size ());
+      for (std::size_t p = 0; p < order.size (); ++p)
+        changed[p] = !(*known)[order[p]];
+    }
+    const BoxTree tree (std::move (boxes), std::move (changed));
 
     // Each thread counts on its own and keeps its smallest pairs, trimmed whenever the
     // buffer fills, so the union holds the overall smallest ones; the buffers never

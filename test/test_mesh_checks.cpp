@@ -626,6 +626,54 @@ TEST (MeshChecks, TopologyBesideGeometryGivesTheSameReport)
   EXPECT_EQ (a.share_min_angle_below_10, b.share_min_angle_below_10);
 }
 
+TEST (MeshChecks, PairsKnownApartAreNotTestedAndTheRestAreAllFound)
+{
+  // The pierced geodesic sphere, checked again after an earlier check: what the
+  // earlier one found and what changed since must be tested, the rest need not.
+  Mesh m = geodesicSphere (48);
+  m.vertices[1000] *= -1.2; // a fan through the far side
+  MeshCheckOptions full;
+  full.max_listed_intersections = 65536;
+  const MeshReport reference = checkMesh (m.vertices, m.triangles, full);
+  ASSERT_GT (reference.self_intersecting_pairs, 0u);
+  ASSERT_EQ (reference.intersecting_pairs.size (), reference.self_intersecting_pairs);
+
+  // Everything known apart but the triangles of the pairs: the same report.
+  std::vector<char> known (m.triangles.size (), 1);
+  for (const auto& [s, t] : reference.intersecting_pairs)
+    known[s] = known[t] = 0;
+  MeshCheckOptions masked = full;
+  masked.known_apart = &known;
+  const MeshReport same = checkMesh (m.vertices, m.triangles, masked);
+  EXPECT_EQ (same.self_intersecting_pairs, reference.self_intersecting_pairs);
+  EXPECT_EQ (same.intersecting_pairs, reference.intersecting_pairs);
+  EXPECT_EQ (describe (same), describe (reference));
+
+  // Only the fan's side of each pair left to test (the far side known apart from
+  // the rest): still all found, since each pair has a triangle to test.
+  std::vector<char> fan_only (m.triangles.size (), 1);
+  for (std::size_t t = 0; t < m.triangles.size (); ++t)
+    for (const pcl::index_t v : m.triangles[t])
+      if (v == 1000)
+        fan_only[t] = 0;
+  masked.known_apart = &fan_only;
+  EXPECT_EQ (checkMesh (m.vertices, m.triangles, masked).intersecting_pairs,
+             reference.intersecting_pairs);
+
+  // The caller vouches: pairs of two triangles it marks are not tested at all.
+  std::vector<char> all (m.triangles.size (), 1);
+  masked.known_apart = &all;
+  const MeshReport vouched = checkMesh (m.vertices, m.triangles, masked);
+  EXPECT_EQ (vouched.self_intersecting_pairs, 0u);
+  EXPECT_TRUE (vouched.isSphereLike ()); // topology in full all the same
+
+  // A mask of the wrong size is ignored.
+  std::vector<char> short_mask (10, 1);
+  masked.known_apart = &short_mask;
+  EXPECT_EQ (checkMesh (m.vertices, m.triangles, masked).self_intersecting_pairs,
+             reference.self_intersecting_pairs);
+}
+
 TEST (MeshChecks, EmptyAndUncheckedIntersections)
 {
   const MeshReport empty = checkMesh ({}, {});

@@ -29,6 +29,14 @@ struct MeshCheckOptions
   /** \brief Default: 0, meaning OpenMP's default. Threads for the per-triangle
     * work; the report is the same for every thread count. */
   int num_threads = 0;
+  /** \brief Default: none. Optional, one entry per triangle: triangles marked
+    * non-zero are known to meet no other marked triangle (for instance unchanged
+    * since an earlier check of the same vertices that listed all its pairs, and in
+    * none of them), so pairs of two marked triangles are not tested. The caller
+    * vouches for that; the count of intersecting pairs is then exact if it holds.
+    * Ignored (everything tested) if its size differs from the number of triangles.
+    * Topology, angles and volume are always computed in full. */
+  const std::vector<char>* known_apart = nullptr;
 };
 
 /** \brief Topology, validity and quality of a triangle mesh.
