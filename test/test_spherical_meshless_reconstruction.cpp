@@ -66,6 +66,22 @@ range (std::size_t n)
   return all;
 }
 
+/** Self-intersecting pairs of `polygons` (triangles over the cloud's indices) by a
+  * full check on the cloud's own coordinates. */
+std::size_t
+fullCheckPairs (const pcl::PointCloud<pcl::PointXYZ>& cloud, const std::vector<pcl::Vertices>& polygons)
+{
+  pcl::meshless::Points3 points;
+  for (const auto& p : cloud)
+    points.emplace_back (p.x, p.y, p.z);
+  pcl::meshless::Triangles triangles;
+  for (const auto& polygon : polygons)
+    triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
+                          static_cast<pcl::index_t> (polygon.vertices[1]),
+                          static_cast<pcl::index_t> (polygon.vertices[2])});
+  return pcl::meshless::checkMesh (points, triangles).self_intersecting_pairs;
+}
+
 } // namespace
 
 TEST (SphericalMeshlessReconstruction, PolygonMeshOfAGeneratedCloud)
@@ -439,18 +455,9 @@ TEST (SphericalMeshlessReconstruction, PairsLeftFailUnlessAllowed)
   // (MeshCheckOptions::known_apart): it counts what a full check of the result
   // counts.
   {
-    auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
-    ASSERT_EQ (pcl::io::loadPCDFile (path, *cloud), 0);
-    pcl::meshless::Points3 points;
-    for (const auto& p : *cloud)
-      points.emplace_back (p.x, p.y, p.z);
-    pcl::meshless::Triangles triangles;
-    for (const auto& polygon : kept)
-      triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
-                            static_cast<pcl::index_t> (polygon.vertices[1]),
-                            static_cast<pcl::index_t> (polygon.vertices[2])});
-    EXPECT_EQ (pcl::meshless::checkMesh (points, triangles).self_intersecting_pairs,
-               allowed.mesh.self_intersecting_pairs);
+    pcl::PointCloud<pcl::PointXYZ> cloud;
+    ASSERT_EQ (pcl::io::loadPCDFile (path, cloud), 0);
+    EXPECT_EQ (fullCheckPairs (cloud, kept), allowed.mesh.self_intersecting_pairs);
   }
   if (allowed.mesh.self_intersecting_pairs == 0)
     GTEST_SKIP () << "the first base mesh leaves no pairs any more: nothing to refuse";
@@ -519,16 +526,7 @@ TEST (SphericalMeshlessReconstruction, RawFoldsAreRepairedBeforeTheSwaps)
   reconstruction.reconstruct (raw);
   ASSERT_TRUE (reconstruction.getReport ().success) << reconstruction.getReport ().message;
   EXPECT_EQ (reconstruction.getReport ().raw_fold_repair.pairs_before, 0u);
-  pcl::meshless::Points3 points;
-  for (const auto& p : *cloud)
-    points.emplace_back (p.x, p.y, p.z);
-  pcl::meshless::Triangles triangles;
-  for (const auto& polygon : raw)
-    triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
-                          static_cast<pcl::index_t> (polygon.vertices[1]),
-                          static_cast<pcl::index_t> (polygon.vertices[2])});
-  EXPECT_EQ (pcl::meshless::checkMesh (points, triangles).self_intersecting_pairs,
-             repaired.raw_fold_repair.pairs_before);
+  EXPECT_EQ (fullCheckPairs (*cloud, raw), repaired.raw_fold_repair.pairs_before);
 
   // Without the optimization, the same folds are repaired after the check instead.
   reconstruction.setCheckSelfIntersections (true);
