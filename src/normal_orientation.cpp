@@ -358,29 +358,18 @@ mutualRingGraph (const CsrGraph& rings)
   const std::size_t n = rings.size ();
   CsrGraph graph;
   graph.offsets.assign (n + 1, 0);
-  if (n == 0)
-    return graph;
-  // Rows in parallel, each into the slots of its ring (a row is a subset of the
-  // ring), then packed in order: the same graph for any number of threads.
-  std::vector<pcl::index_t> slots (static_cast<std::size_t> (rings.offsets[n]));
-  std::vector<pcl::index_t> row_size (n, 0);
-#pragma omp parallel for schedule(dynamic, 4096)
-  for (std::ptrdiff_t sv = 0; sv < static_cast<std::ptrdiff_t> (n); ++sv) {
-    const auto v = static_cast<pcl::index_t> (sv);
-    pcl::index_t* row = slots.data () + rings.offsets[v];
-    pcl::index_t size = 0;
+  std::vector<pcl::index_t> row;
+  for (std::size_t v = 0; v < n; ++v) {
+    row.clear ();
     for (const pcl::index_t* w = rings.begin (v); w != rings.end (v); ++w)
-      if (std::find (rings.begin (*w), rings.end (*w), v) != rings.end (*w))
-        row[size++] = *w;
-    std::sort (row, row + size);
-    row_size[v] = static_cast<pcl::index_t> (std::unique (row, row + size) - row);
+      if (std::find (rings.begin (*w), rings.end (*w), static_cast<pcl::index_t> (v)) !=
+          rings.end (*w))
+        row.push_back (*w);
+    std::sort (row.begin (), row.end ());
+    row.erase (std::unique (row.begin (), row.end ()), row.end ());
+    graph.adjacency.insert (graph.adjacency.end (), row.begin (), row.end ());
+    graph.offsets[v + 1] = static_cast<pcl::index_t> (graph.adjacency.size ());
   }
-  for (std::size_t v = 0; v < n; ++v)
-    graph.offsets[v + 1] = graph.offsets[v] + row_size[v];
-  graph.adjacency.resize (static_cast<std::size_t> (graph.offsets[n]));
-  for (std::size_t v = 0; v < n; ++v)
-    std::copy_n (slots.begin () + rings.offsets[v], row_size[v],
-                 graph.adjacency.begin () + graph.offsets[v]);
   return graph;
 }
 
