@@ -428,7 +428,9 @@ public:
     : p_ (points), tri_ (tri), options_ (options),
       cos_fold_ (std::cos (std::clamp (options.max_fold_angle_deg, 0.0, 180.0) * pi / 180.0)),
       min_dihedral_ (std::clamp (options.descent_min_dihedral_deg, 0.0, 180.0) * pi / 180.0),
-      threads_ (threadCount (options.num_threads))
+      threads_ (threadCount (options.num_threads)),
+      rewritten_ (options.rewritten && options.rewritten->size () == tri.size () ? options.rewritten
+                                                                               : nullptr)
   {}
 
   /** Builds the half-edge structure; false with message_ set if the input is not a
@@ -1373,6 +1375,8 @@ private:
     // d->b, b->c, c->d.
     tri_[q.t0] = {q.c, q.a, q.d};
     tri_[q.t1] = {q.d, q.b, q.c};
+    if (rewritten_)
+      (*rewritten_)[q.t0] = (*rewritten_)[q.t1] = 1;
     const std::array<std::int32_t, 4> slot{3 * q.t0, 3 * q.t0 + 1, 3 * q.t1, 3 * q.t1 + 1};
     for (int i = 0; i < 4; ++i) {
       opp_[slot[i]] = twin[i];
@@ -1455,6 +1459,8 @@ private:
   /** EdgeSwapOptions::descent_min_dihedral_deg in radians. */
   const double min_dihedral_;
   const int threads_;
+  /** EdgeSwapOptions::rewritten, if it fits. */
+  std::vector<char>* rewritten_ = nullptr;
   std::string message_;
 
   std::vector<std::int32_t> opp_, edge_of_, edge_he_, vert_he_;

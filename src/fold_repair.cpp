@@ -348,6 +348,8 @@ public:
   , normals_ (options.normals)
   , grid_ (points, triangles, cell, seeds, 8)
   , pairs_of_ (triangles.size (), 0)
+  , rewritten_ (options.rewritten && options.rewritten->size () == triangles.size () ? options.rewritten
+                                                                                      : nullptr)
   {
     for (const auto& [s, t] : pairs) {
       ++pairs_of_[s];
@@ -783,6 +785,8 @@ private:
     }
     for (std::size_t i = 0; i < slots.size (); ++i) {
       triangles_[slots[i]] = fresh[i];
+      if (rewritten_)
+        (*rewritten_)[slots[i]] = 1;
       for (const pcl::index_t x : fresh[i])
         changed_[x].push_back (slots[i]);
       grid_.insert (slots[i]);
@@ -1007,6 +1011,8 @@ private:
   std::vector<Vec3> box_lo_, box_hi_; // pairsOf's
   /** Per slot: the intersecting pairs its triangle is in, or `uncounted`. */
   std::vector<std::uint32_t> pairs_of_;
+  /** FoldRepairOptions::rewritten, if it fits. */
+  std::vector<char>* rewritten_ = nullptr;
   static constexpr std::uint32_t uncounted = std::numeric_limits<std::uint32_t>::max ();
   mutable std::vector<Vec2> plane_positions_; // planarDisc's, sized on first use
 };

@@ -326,9 +326,20 @@ TEST (EdgeSwap, ScrambledSphereIsRepaired)
     Triangles work = triangles;
     EdgeSwapOptions options;
     options.cost = cost;
+    std::vector<char> rewritten (triangles.size (), 0);
+    options.rewritten = &rewritten;
     const EdgeSwapResult result = optimizeBySwaps (points, work, options);
     ASSERT_TRUE (result.success) << result.message;
     EXPECT_GT (result.swaps, 0u);
+    // Every slot whose triangle changed is marked (MeshCheckOptions::known_apart
+    // relies on it).
+    std::size_t changed = 0;
+    for (std::size_t t = 0; t < work.size (); ++t)
+      if (work[t] != triangles[t]) {
+        ++changed;
+        EXPECT_TRUE (rewritten[t]) << "slot " << t << " changed unmarked";
+      }
+    EXPECT_GT (changed, 0u);
     EXPECT_LT (result.cost_after, result.cost_before);
     const MeshReport after = checkMesh (points, work);
     EXPECT_TRUE (after.isSphereLike ());

@@ -138,11 +138,25 @@ TEST (FoldRepair, ManyFoldsAtOnceOnALargerSphere)
   const MeshReport fold = checkAll (folded);
   ASSERT_GT (fold.self_intersecting_pairs, 10u);
   FoldRepairResult result;
-  const Mesh mesh = repaired (folded, fold, result);
+  std::vector<char> rewritten (folded.triangles.size (), 0);
+  FoldRepairOptions options;
+  options.rewritten = &rewritten;
+  const Mesh mesh = repaired (folded, fold, result, options);
   const MeshReport after = checkAll (mesh);
   EXPECT_EQ (after.self_intersecting_pairs, 0u);
   EXPECT_EQ (result.pairs_after, 0u);
   expectSameSphere (folded, mesh, after);
+  // Every slot whose triangle changed is marked (a later check relies on it), and
+  // only slots the re-meshed discs took.
+  std::size_t changed = 0, marked = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size (); ++t) {
+    changed += mesh.triangles[t] != folded.triangles[t];
+    marked += rewritten[t] != 0;
+    if (mesh.triangles[t] != folded.triangles[t])
+      EXPECT_TRUE (rewritten[t]) << "slot " << t << " changed unmarked";
+  }
+  EXPECT_GT (changed, 0u);
+  EXPECT_LT (marked, mesh.triangles.size () / 4);
 }
 
 TEST (FoldRepair, WhereNoPlaneWillDoTheNeighbourhoodMapDoes)

@@ -376,7 +376,8 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   auto repairFolds = [&] (meshless::Triangles& mesh_triangles,
                           const std::vector<Eigen::Vector3f>& mesh_normals,
                           const meshless::MeshReport& mesh, const char* stage,
-                          meshless::FoldRepairResult& repair) {
+                          meshless::FoldRepairResult& repair,
+                          std::vector<char>* rewritten = nullptr) {
     repair = {};
     if (mesh.self_intersecting_pairs == 0 ||
         mesh.intersecting_pairs.size () != mesh.self_intersecting_pairs || !mesh.isManifold () ||
@@ -389,6 +390,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
       repair_options.neighbours = neighbours;
       repair_options.normals = &mesh_normals;
     }
+    repair_options.rewritten = rewritten;
     repair = meshless::repairFoldsByReinsertion (points, mesh_triangles, mesh.intersecting_pairs,
                                                  repair_options);
     return record ({stage, 1.0,
@@ -427,11 +429,13 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     meshless::MeshCheckOptions check;
     check.check_self_intersections = check_self_intersections_;
     check.max_listed_intersections = 65536; // for distantIntersectingPairs and the repair
-    // The raw triangles as the raw check saw them, if it listed all its pairs: the
-    // final check then tests only pairs with a triangle changed since, or in one of
-    // those pairs (MeshCheckOptions::known_apart). The repair and the swaps change a
-    // few percent of the triangles (armadillo_uniform_1m: 45,364 swaps on 2M).
-    meshless::Triangles raw_triangles;
+    // The slots the repair and the swaps rewrite after a raw check that listed all
+    // its pairs: the final check then tests only pairs with a triangle rewritten
+    // since, or in one of those pairs (MeshCheckOptions::known_apart). They rewrite
+    // a few percent of the triangles (armadillo_uniform_1m: 45,364 swaps on 2M).
+    // (A copy of the raw triangles to compare with took 24 MB through the swaps,
+    // whose peak it raised to 605 MB.)
+    std::vector<char> rewritten;
     std::vector<std::pair<std::size_t, std::size_t>> raw_pairs;
     if (optimize_ && !report_.convex_hull) {
       // The folds of the raw triangulation first: re-meshed in discs they come out
@@ -449,14 +453,15 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
         const meshless::MeshReport raw = meshless::checkMesh (points, mesh_triangles, check);
         if (raw.self_intersections_checked &&
             raw.intersecting_pairs.size () == raw.self_intersecting_pairs) {
-          raw_triangles = mesh_triangles;
+          rewritten.assign (mesh_triangles.size (), 0);
           raw_pairs = raw.intersecting_pairs;
         }
         if (!record ({"check raw", 0.93,
                       std::chrono::duration<double> (std::chrono::steady_clock::now () - raw_start)
                           .count (),
                       std::to_string (raw.self_intersecting_pairs) + " intersecting pairs"}) ||
-            !repairFolds (mesh_triangles, mesh_normals, raw, "repair raw", raw_repair))
+            !repairFolds (mesh_triangles, mesh_normals, raw, "repair raw", raw_repair,
+                          rewritten.empty () ? nullptr : &rewritten))
           return "cancelled by the progress callback";
         // The repair ran only on a complete list (repairFolds) and counts exactly.
         const bool repaired = raw_repair.success && raw_repair.pairs_before > 0 &&
@@ -466,6 +471,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
             raw.self_intersections_checked && (raw.self_intersecting_pairs == 0 || repaired);
       }
       meshless::releaseFreedMemory (); // the checks' and the repair's arrays
+      swap_options.rewritten = rewritten.empty () ? nullptr : &rewritten;
       const auto optimize_start = std::chrono::steady_clock::now ();
       optimization = meshless::optimizeBySwaps (points, mesh_triangles, swap_options);
       if (!optimization.success)
@@ -478,15 +484,13 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
         return "cancelled by the progress callback";
     }
     const auto check_start = std::chrono::steady_clock::now ();
-    std::vector<char> known_apart;
     meshless::MeshCheckOptions final_check = check;
-    if (!raw_triangles.empty () && raw_triangles.size () == mesh_triangles.size ()) {
-      known_apart.resize (mesh_triangles.size ());
-      for (std::size_t t = 0; t < mesh_triangles.size (); ++t)
-        known_apart[t] = raw_triangles[t] == mesh_triangles[t];
+    if (!rewritten.empty () && rewritten.size () == mesh_triangles.size ()) {
+      std::vector<char>& known_apart = rewritten; // in place: known apart = not rewritten
+      for (char& r : known_apart)
+        r = !r;
       for (const auto& [s, t] : raw_pairs)
         known_apart[s] = known_apart[t] = 0;
-      meshless::Triangles ().swap (raw_triangles);
       final_check.known_apart = &known_apart;
     }
     mesh = meshless::checkMesh (points, mesh_triangles, final_check);

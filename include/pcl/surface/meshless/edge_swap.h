@@ -7,6 +7,7 @@
 #include <pcl/surface/meshless/types.h>
 
 #include <cstddef>
+#include <vector>
 
 namespace pcl {
 namespace meshless {
@@ -149,6 +150,10 @@ struct EdgeSwapOptions
   /** \brief Default: 15. Quads turning more than this (degrees) are left alone by
     * the angle pass: across a crease a swap would cut the feature. */
   double angle_pass_max_dihedral_deg = 15.0;
+  /** \brief Default: none. Optional, one entry per triangle: each slot a swap
+    * writes is set to 1 (the others are left as they are), as
+    * FoldRepairOptions::rewritten. Ignored if its size differs. */
+  std::vector<char>* rewritten = nullptr;
 };
 
 struct EdgeSwapResult : StageStatus

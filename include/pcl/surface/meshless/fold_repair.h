@@ -67,6 +67,11 @@ struct FoldRepairOptions
     * from each inner vertex's neighbours on its own side (normals agreeing). */
   const CsrGraph* neighbours = nullptr;
   const std::vector<Eigen::Vector3f>* normals = nullptr;
+  /** \brief Default: none. Optional, one entry per triangle: each slot the repair
+    * writes is set to 1 (the others are left as they are), so that a later check
+    * knows which triangles are still those an earlier one saw
+    * (MeshCheckOptions::known_apart). Ignored if its size differs. */
+  std::vector<char>* rewritten = nullptr;
 };
 
 /** \brief What repairFoldsByReinsertion() did. */
