@@ -3,6 +3,7 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include <pcl/surface/meshless/cut_paths.h>
+#include <pcl/surface/meshless/freed_memory.h>
 #include <pcl/surface/meshless/merge.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/normal_orientation.h>
@@ -226,6 +227,11 @@ triangulateSphere (const Points3& points,
       surface.ordered.largest_gap = std::move (again.ordered.largest_gap);
     };
 
+    // What the graphs, the paths and the split freed goes back to the system first:
+    // the patches are solved on two threads, and the second one's allocations
+    // cannot reuse the first one's free memory (glibc keeps an arena per thread).
+    // armadillo_uniform_1m: the stage's peak 597 -> 590 MB.
+    releaseFreedMemory ();
     const std::size_t faces = split.patches.size ();
     std::vector<PatchTriangulation> triangulated (faces);
     PatchRingContext patch_rings;
