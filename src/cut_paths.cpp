@@ -433,17 +433,25 @@ computeCutPaths (const Points3& points,
       if (best < 0 || piece_size[id] > piece_size[best])
         best = id;
     }
-    for (auto v : members)
+    std::size_t left_pending = 0;
+    for (auto v : members) {
       if (region[v] >= 0 && piece[v] != largest[0] && piece[v] != largest[1])
         region[v] = pending;
-    for (auto v : members)
-      if (region[v] >= 0)
-        for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
-          if (region[*w] == pending) {
-            queue.push_back (v);
-            break;
-          }
-    flood ();
+      left_pending += region[v] == pending;
+    }
+    // The pieces given up and the points the flood did not reach go to the regions
+    // around them; mostly there are none, and this scan of every member's
+    // neighbours is skipped (a third of the split's time on a million points).
+    if (left_pending > 0) {
+      for (auto v : members)
+        if (region[v] >= 0)
+          for (const pcl::index_t* w = graph.begin (v); w != graph.end (v); ++w)
+            if (region[*w] == pending) {
+              queue.push_back (v);
+              break;
+            }
+      flood ();
+    }
     for (auto v : members) {
       piece[v] = -1;
       if (region[v] == pending)
