@@ -1535,7 +1535,6 @@ oppositeAnglesExceedPi (const Eigen::Vector3d& a,
   return sine == 0.0 && cosine < 0.0;
 }
 
-
 EdgeSwapResult
 optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOptions& options)
 {

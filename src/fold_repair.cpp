@@ -746,7 +746,6 @@ public:
   }
 
 private:
-  /** One edge swap: the two slots and what they held before and hold after. */
   /** Intersecting pairs (slot, other slot) found by pairsOf. */
   using PairList = std::vector<std::pair<std::int32_t, std::int32_t>>;
 

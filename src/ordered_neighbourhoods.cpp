@@ -122,10 +122,9 @@ delaunayRing (const Points2& local, std::vector<int>& ring)
     Eigen::Vector2d p;
     int index; // into local, -1 for the origin
   };
-  std::vector<Polar>& polar = [] () -> std::vector<Polar>& {
-    static thread_local std::vector<Polar> buffer;
-    return buffer;
-  } ();
+  // Buffers kept per thread: the rings of a million points are a million calls.
+  static thread_local std::vector<Polar> polar;
+  static thread_local std::vector<int> hull;
   polar.clear ();
   polar.push_back ({Eigen::Vector2d::Zero (), -1});
   for (int i = 0; i < count; ++i) {
@@ -145,10 +144,6 @@ delaunayRing (const Points2& local, std::vector<int>& ring)
     return cross > 1e-12 * u.norm () * w.norm ();
   };
   const std::size_t m = polar.size ();
-  std::vector<int>& hull = [] () -> std::vector<int>& {
-    static thread_local std::vector<int> buffer;
-    return buffer;
-  } ();
   hull.assign (2 * m, 0);
   std::size_t h = 0;
   for (std::size_t i = 0; i < m; ++i) { // lower hull

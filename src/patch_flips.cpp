@@ -55,9 +55,9 @@ flipFlatEdgesInPatch (const Points3& points,
       if (v < 0 || static_cast<std::size_t> (v) >= m)
         return 0; // outside the contract: left as it is
   // Twins of the half-edges (3 t + j runs from corner j to corner j + 1), -1 on
-  // the boundary: the twin of a->b is among the half-edges leaving b. (Grouping
-  // the half-edges by edge took twice the memory, which counts here: the flips run
-  // beside another patch's factorization, the peak of large clouds.)
+  // the boundary: the twin of a->b is among the half-edges leaving b. (groupHalfEdges
+  // keeps 8 bytes per half-edge where this keeps 4, and memory counts here: the
+  // flips run beside another patch's factorization, the peak of large clouds.)
   const auto T = static_cast<std::int32_t> (triangles.size ());
   std::vector<std::int32_t> twin (3 * triangles.size (), -1);
   {
@@ -84,10 +84,9 @@ flipFlatEdgesInPatch (const Points3& points,
       }
     }
   }
-  const double cos_flat = std::cos (options.max_dihedral_deg * 3.14159265358979323846 / 180.0);
-  // The swaps' fold bound (EdgeSwapOptions::max_fold_angle_deg, 90 degrees): a new
-  // triangle turns by at most that against one of the old ones.
-  constexpr double cos_fold = 0.0;
+  constexpr double pi = 3.14159265358979323846;
+  const double cos_flat = std::cos (options.max_dihedral_deg * pi / 180.0);
+  const double cos_fold = std::cos (std::clamp (options.max_fold_angle_deg, 0.0, 180.0) * pi / 180.0);
   const auto P = [&] (pcl::index_t local) -> const Eigen::Vector3d& { return points[global_of[local]]; };
 
   std::size_t flips = 0;
@@ -137,9 +136,8 @@ flipFlatEdgesInPatch (const Points3& points,
     // Strictly convex in the plane: both new triangles turn as the old ones do.
     // Then c-d crosses a-b inside the quad, and no other edge of the embedding can
     // join c and d.
-    const double turn = orient2d (uv[a], uv[b], uv[c]);
-    const double new0 = orient2d (uv[c], uv[a], uv[d]), new1 = orient2d (uv[d], uv[b], uv[c]);
-    if (!(turn > 0.0 ? new0 > 0.0 && new1 > 0.0 : turn < 0.0 && new0 < 0.0 && new1 < 0.0))
+    const int turn = orient2d (uv[a], uv[b], uv[c]);
+    if (turn == 0 || orient2d (uv[c], uv[a], uv[d]) != turn || orient2d (uv[d], uv[b], uv[c]) != turn)
       continue;
 
     const std::int32_t bc = twin[3 * t0 + (j0 + 1) % 3], ca = twin[3 * t0 + (j0 + 2) % 3];

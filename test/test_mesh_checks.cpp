@@ -181,6 +181,17 @@ referenceIntersect (const std::vector<Int3>& points,
 
 const Points3 base_triangle = {{0, 0, 0}, {2, 0, 0}, {0, 2, 0}};
 
+/** The geometric figures of two reports of the same mesh agree exactly (pairs,
+  * their list, volume, mean smallest angle). */
+void
+expectSameGeometry (const MeshReport& a, const MeshReport& b)
+{
+  EXPECT_EQ (a.self_intersecting_pairs, b.self_intersecting_pairs);
+  EXPECT_EQ (a.intersecting_pairs, b.intersecting_pairs);
+  EXPECT_EQ (a.signed_volume, b.signed_volume);
+  EXPECT_EQ (a.mean_min_angle_deg, b.mean_min_angle_deg);
+}
+
 } // namespace
 
 TEST (MeshChecks, Tetrahedron)
@@ -583,10 +594,7 @@ TEST (MeshChecks, GeodesicSphereAndAVertexPushedThrough)
   MeshCheckOptions several;
   several.num_threads = 3;
   const MeshReport again = checkMesh (m.vertices, m.triangles, several);
-  EXPECT_EQ (again.self_intersecting_pairs, pierced.self_intersecting_pairs);
-  EXPECT_EQ (again.intersecting_pairs, pierced.intersecting_pairs);
-  EXPECT_EQ (again.signed_volume, pierced.signed_volume);
-  EXPECT_EQ (again.mean_min_angle_deg, pierced.mean_min_angle_deg);
+  expectSameGeometry (again, pierced);
 }
 
 TEST (MeshChecks, TopologyBesideGeometryGivesTheSameReport)
@@ -619,10 +627,7 @@ TEST (MeshChecks, TopologyBesideGeometryGivesTheSameReport)
   EXPECT_EQ (a.duplicate_triangles, b.duplicate_triangles);
   EXPECT_EQ (a.non_manifold_edges, b.non_manifold_edges);
   EXPECT_EQ (a.euler_characteristic, b.euler_characteristic);
-  EXPECT_EQ (a.self_intersecting_pairs, b.self_intersecting_pairs);
-  EXPECT_EQ (a.intersecting_pairs, b.intersecting_pairs);
-  EXPECT_EQ (a.signed_volume, b.signed_volume);
-  EXPECT_EQ (a.mean_min_angle_deg, b.mean_min_angle_deg);
+  expectSameGeometry (a, b);
   EXPECT_EQ (a.share_min_angle_below_10, b.share_min_angle_below_10);
 }
 

@@ -295,6 +295,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     // in parallel (flipFlatEdgesInPatch); the swaps find most of it done.
     options.patch_flips.enabled = optimize_ && swap_options_.improve_angles;
     options.patch_flips.max_dihedral_deg = swap_options_.angle_pass_max_dihedral_deg;
+    options.patch_flips.max_fold_angle_deg = swap_options_.max_fold_angle_deg;
     if (!base_faces_.empty ()) {
       // The user's base mesh refers to cloud indices; the pipeline to its points.
       std::vector<std::pair<pcl::index_t, pcl::index_t>> pipeline_of; // (cloud, pipeline)
@@ -485,7 +486,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     }
     const auto check_start = std::chrono::steady_clock::now ();
     meshless::MeshCheckOptions final_check = check;
-    if (!rewritten.empty () && rewritten.size () == mesh_triangles.size ()) {
+    if (!rewritten.empty ()) {
       std::vector<char>& known_apart = rewritten; // in place: known apart = not rewritten
       for (char& r : known_apart)
         r = !r;

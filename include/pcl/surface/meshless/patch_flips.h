@@ -20,6 +20,10 @@ struct PatchFlipOptions
     * two triangles, before and after the flip (EdgeSwapOptions::
     * angle_pass_max_dihedral_deg, whose rule this is). */
   double max_dihedral_deg = 15.0;
+  /** \brief Default: 90. A new triangle turns by at most this (degrees) against one
+    * of the old ones, or by the old quad's own turn if that is larger
+    * (EdgeSwapOptions::max_fold_angle_deg, the swaps' fold bound). */
+  double max_fold_angle_deg = 90.0;
   /** \brief Default: 10. At most this many flips per triangle (a curved quad can
     * flip back and forth). */
   std::size_t flips_per_triangle = 10;
