@@ -1045,12 +1045,7 @@ private:
       return false;
     const Vec3 &a = p_[q.a], &b = p_[q.b], &c = p_[q.c], &d = p_[q.d];
     const Vec3 n0 = normal (a, d, c), n1 = normal (d, b, c);
-    // Degenerate: sine of the smallest angle below about 1e-8.
-    const auto degenerate = [] (const Vec3& n, const Vec3& x, const Vec3& y, const Vec3& z) {
-      const double longest = std::max ({(x - y).squaredNorm (), (y - z).squaredNorm (), (z - x).squaredNorm ()});
-      return !(n.norm () > 1e-8 * longest);
-    };
-    if (degenerate (n0, a, d, c) || degenerate (n1, d, b, c))
+    if (nearlyDegenerateTriangle (n0, a, d, c) || nearlyDegenerateTriangle (n1, d, b, c))
       return false;
     // Turns are allowed up to the bound, or up to the old quad's turn if that is
     // larger: a swap may leave a fold it cannot open, never deepen it. (A degenerate
@@ -1058,12 +1053,10 @@ private:
     const Vec3& o0 = normal (q.t0);
     const Vec3& o1 = normal (q.t1);
     const double old_cos = std::min (cos_fold_, o0.dot (o1));
-    const auto within = [old_cos] (const Vec3& u, const Vec3& v) {
-      return u.dot (v) >= old_cos * u.norm () * v.norm ();
-    };
-    if (!within (n0, n1))
+    if (!normalsWithin (n0, n1, old_cos))
       return false;
-    return (within (n0, o0) || within (n0, o1)) && (within (n1, o0) || within (n1, o1));
+    return (normalsWithin (n0, o0, old_cos) || normalsWithin (n0, o1, old_cos)) &&
+           (normalsWithin (n1, o0, old_cos) || normalsWithin (n1, o1, old_cos));
   }
 
   /** Cost change of swapping q (negative is better) for the per-edge costs; `local`

@@ -2,7 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-#include <pcl/surface/meshless/edge_swap.h> // oppositeAnglesExceedPi
+#include <pcl/surface/meshless/edge_swap.h> // the swaps' predicates
 #include <pcl/surface/meshless/patch_flips.h>
 #include <pcl/surface/meshless/triangle_intersection.h> // orient2d
 
@@ -14,31 +14,6 @@
 
 namespace pcl {
 namespace meshless {
-
-namespace {
-
-/** Whether a triangle with normal (unnormalised) n and corners x, y, z is degenerate:
-  * the sine of its smallest angle below about 1e-8 (the swaps' rule). */
-bool
-degenerate (const Eigen::Vector3d& n,
-            const Eigen::Vector3d& x,
-            const Eigen::Vector3d& y,
-            const Eigen::Vector3d& z)
-{
-  const double longest =
-      std::max ({(x - y).squaredNorm (), (y - z).squaredNorm (), (z - x).squaredNorm ()});
-  return !(n.norm () > 1e-8 * longest);
-}
-
-/** Whether the (unnormalised) normals u and v turn by at most the angle whose cosine
-  * is `cosine`. */
-bool
-within (const Eigen::Vector3d& u, const Eigen::Vector3d& v, double cosine)
-{
-  return u.dot (v) >= cosine * u.norm () * v.norm ();
-}
-
-} // namespace
 
 std::size_t
 flipFlatEdgesInPatch (const Points3& points,
@@ -127,11 +102,12 @@ flipFlatEdgesInPatch (const Points3& points,
     if (o0.dot (o1) < cos_flat)
       continue;
     const Eigen::Vector3d n0 = (pa - pc).cross (pd - pc), n1 = (pb - pd).cross (pc - pd);
-    if (degenerate (n0, pc, pa, pd) || degenerate (n1, pd, pb, pc) || !within (n0, n1, cos_flat))
+    if (nearlyDegenerateTriangle (n0, pc, pa, pd) || nearlyDegenerateTriangle (n1, pd, pb, pc) ||
+        !normalsWithin (n0, n1, cos_flat))
       continue;
     const double old_cos = std::min (cos_fold, o0.dot (o1));
-    if (!(within (n0, o0, old_cos) || within (n0, o1, old_cos)) ||
-        !(within (n1, o0, old_cos) || within (n1, o1, old_cos)))
+    if (!(normalsWithin (n0, o0, old_cos) || normalsWithin (n0, o1, old_cos)) ||
+        !(normalsWithin (n1, o0, old_cos) || normalsWithin (n1, o1, old_cos)))
       continue;
     // Strictly convex in the plane: both new triangles turn as the old ones do.
     // Then c-d crosses a-b inside the quad, and no other edge of the embedding can
