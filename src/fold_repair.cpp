@@ -155,14 +155,12 @@ public:
       if ((tlo.array () <= hi.array ()).all () && (lo.array () <= thi.array ()).all ())
         out.push_back (t);
     };
-    const auto scan = [&] (const std::vector<std::int32_t>& slots) {
-      for (const std::int32_t t : slots)
-        scanOne (t);
-    };
+    // A cell's slots: those there when the repair started, then those entered since.
     const auto scanCell = [&] (std::int32_t id) {
       for (std::uint32_t k = initial_start_[id]; k < initial_start_[id + 1]; ++k)
         scanOne (initial_slots_[k]);
-      scan (cells_[id]);
+      for (const std::int32_t t : cells_[id])
+        scanOne (t);
     };
     // A box over more cells than are made (a far outlier's triangle, a long sliver)
     // is answered from the made cells inside it: walking all its cells took minutes
