@@ -2,6 +2,7 @@
 #include <pcl/point_types.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/meshless/neighbourhood_search.h>
 
 #include "test_support.h"
 

@@ -5,15 +5,7 @@
 #pragma once
 
 #include <pcl/Vertices.h>
-#include <pcl/surface/meshless/base_mesh.h>
-#include <pcl/surface/meshless/convex_hull.h>
-#include <pcl/surface/meshless/disc_pipeline.h>
-#include <pcl/surface/meshless/edge_swap.h>
-#include <pcl/surface/meshless/fold_repair.h>
-#include <pcl/surface/meshless/mesh_checks.h>
-#include <pcl/surface/meshless/spatial_order.h>
-#include <pcl/surface/meshless/sphere_pipeline.h>
-#include <pcl/surface/meshless/weights.h>
+#include <pcl/surface/meshless/reconstruct.h>
 #include <pcl/surface/reconstruction.h>
 
 #include <string>
@@ -24,62 +16,7 @@ namespace pcl {
 
 /** \brief What the last reconstruct() call did: success or the reason, stage
   * timings, the pipeline's statistics and the check of the result. */
-struct SphericalMeshlessReport
-{
-  bool success = false;
-  /** \brief Empty on success; else the cause, naming the parameter to check. */
-  std::string message;
-  /** \brief Finite input points used (after removing duplicates). */
-  std::size_t num_points = 0;
-  /** \brief Non-finite points skipped (only possible with is_dense = false). */
-  std::size_t num_non_finite = 0;
-  /** \brief Exact duplicates merged into the first point at the same position;
-    * they stay in the output cloud as unused vertices. */
-  std::size_t num_duplicates = 0;
-  /** \brief (stage, seconds) in order. */
-  std::vector<std::pair<std::string, double>> stage_seconds;
-  meshless::SpherePipelineStats stats;
-  /** \brief Disc topology: inner boundary loops (holes) kept open. */
-  std::size_t holes = 0;
-  /** \brief The result comes from the second attempt with thin parts separated
-    * (the first one intersected itself more). */
-  bool thin_sheet_retry = false;
-  /** \brief On a small cloud (at most
-    * SphericalMeshlessReconstruction::max_hull_points points) whose points all lie
-    * on their convex hull, the pipeline failed or its mesh intersected itself, and
-    * the hull is the result (meshless::convexHullThroughAll; not optimized). */
-  bool convex_hull = false;
-  /** \brief Further base meshes tried because the result intersected itself, and
-    * whether one of them gave the result (fewer intersecting pairs). */
-  std::size_t base_retries = 0;
-  bool base_retry_kept = false;
-  /** \brief The k of the neighbourhoods the result came from: the given one, or
-    * two more where folds were left with it (0 with a search radius). */
-  int neighbours_k = 0;
-  /** \brief The edge-swap optimization (when enabled). */
-  meshless::EdgeSwapResult optimization;
-  /** \brief Local folds of the raw triangulation, re-meshed away before the
-    * optimization (meshless::repairFoldsByReinsertion; sphere topology with the
-    * optimization and the intersection check on, when the raw triangulation
-    * intersects itself). */
-  meshless::FoldRepairResult raw_fold_repair;
-  /** \brief Local folds the check found, re-meshed away where possible
-    * (meshless::repairFoldsByReinsertion; runs when the output intersects itself). */
-  meshless::FoldRepairResult fold_repair;
-  /** \brief Sphere topology: share of the mesh's area facing against the cloud's
-    * oriented normals (meshless::areaFacingAgainstNormals); above
-    * SphericalMeshlessReconstruction::max_area_against_normals, with
-    * self-intersections, the cloud is rejected as
-    * not sphere-like. */
-  double area_against_normals = 0.0;
-  /** \brief Sphere topology: intersecting pairs of the output whose triangles lie
-    * more than SphericalMeshlessReconstruction::max_local_fold_hops edges apart
-    * (meshless::distantIntersectingPairs); any such pair rejects the cloud as not
-    * sphere-like. */
-  std::size_t distant_intersecting_pairs = 0;
-  /** \brief The check of the output mesh (valid when the pipeline produced one). */
-  meshless::MeshReport mesh;
-};
+using SphericalMeshlessReport = meshless::ReconstructionReport;
 
 /** \brief Closed, manifold, consistently oriented genus-0 triangulation through
   * every point of a cloud sampled from a sphere-like object.
@@ -130,20 +67,12 @@ template <typename PointInT>
 class SphericalMeshlessReconstruction : public MeshConstruction<PointInT>
 {
 public:
-  /** \brief Share of area facing against the cloud's normals above which a
-    * self-intersecting closed result means the cloud is not sphere-like (measured:
-    * genus-0 clouds at most 2.5%, a torus 43%, fertility 30%, an open face 16%). */
-  static constexpr double max_area_against_normals = 0.08;
-  /** \brief Edge distance up to which two intersecting triangles count as a local
-    * fold rather than the surface passing through itself. Measured after
-    * optimization: genus-0 clouds' pairs at most 2 edges apart (clean) and 12 (the
-    * layered bunny_rawscans_merged10, at most 8); rocker_arm (genus 1): 91 of its
-    * 140 pairs more than 32 edges apart. */
-  static constexpr std::size_t max_local_fold_hops = 16;
-  /** \brief Clouds up to this size whose pipeline fails or leaves intersecting
-    * pairs get their convex hull if every point lies on it (see
-    * SphericalMeshlessReport::convex_hull). */
-  static constexpr std::size_t max_hull_points = 100;
+  /** \brief See meshless::max_area_against_normals. */
+  static constexpr double max_area_against_normals = meshless::max_area_against_normals;
+  /** \brief See meshless::max_local_fold_hops. */
+  static constexpr std::size_t max_local_fold_hops = meshless::max_local_fold_hops;
+  /** \brief See meshless::max_hull_points. */
+  static constexpr std::size_t max_hull_points = meshless::max_hull_points;
 
   using Ptr = shared_ptr<SphericalMeshlessReconstruction<PointInT>>;
   using ConstPtr = shared_ptr<const SphericalMeshlessReconstruction<PointInT>>;
@@ -152,12 +81,9 @@ public:
   using MeshConstruction<PointInT>::indices_;
   using MeshConstruction<PointInT>::tree_;
 
-  /** \brief The topology of the surface the cloud samples. */
-  enum class Topology
-  {
-    Sphere, ///< closed, genus 0 (default)
-    Disc    ///< open, one outer boundary (holes kept open where possible)
-  };
+  /** \brief The topology of the surface the cloud samples: Sphere (closed, genus 0,
+    * the default) or Disc (open, one outer boundary; holes kept open where possible). */
+  using Topology = meshless::Topology;
   using WeightType = meshless::WeightType;
   using BasePolyhedron = meshless::BasePolyhedron;
   using ProgressCallback = meshless::ProgressCallback;
@@ -170,12 +96,12 @@ public:
   inline void
   setNumberOfNeighbours (int k)
   {
-    k_ = k;
+    options_.k = k;
   }
   inline int
   getNumberOfNeighbours () const
   {
-    return k_;
+    return options_.k;
   }
 
   /** \brief Ball neighbourhoods of this radius instead of k nearest neighbours.
@@ -183,36 +109,36 @@ public:
   inline void
   setSearchRadius (double radius)
   {
-    radius_ = radius;
+    options_.radius = radius;
   }
   inline double
   getSearchRadius () const
   {
-    return radius_;
+    return options_.radius;
   }
 
   /** \brief Closed sphere-like object (default) or open disc-like surface. */
   inline void
   setTopology (Topology topology)
   {
-    topology_ = topology;
+    options_.topology = topology;
   }
   inline Topology
   getTopology () const
   {
-    return topology_;
+    return options_.topology;
   }
 
   /** \brief Convex-combination weights. Default: WeightType::MeanValue. */
   inline void
   setWeightType (WeightType type)
   {
-    weights_ = type;
+    options_.weights = type;
   }
   inline WeightType
   getWeightType () const
   {
-    return weights_;
+    return options_.weights;
   }
 
   /** \brief The regular polyhedron whose directions pick the base mesh D.
@@ -223,12 +149,12 @@ public:
   inline void
   setBasePolyhedron (BasePolyhedron polyhedron)
   {
-    polyhedron_ = polyhedron;
+    options_.polyhedron = polyhedron;
   }
   inline BasePolyhedron
   getBasePolyhedron () const
   {
-    return polyhedron_;
+    return options_.polyhedron;
   }
 
   /** \brief A user base mesh of sphere topology (paper §5) instead of a polyhedron.
@@ -240,8 +166,8 @@ public:
   void
   setBaseMesh (const pcl::Indices& vertices, const std::vector<pcl::Vertices>& faces)
   {
-    base_vertices_ = vertices;
-    base_faces_ = faces;
+    options_.base_vertices = vertices;
+    options_.base_faces = faces;
   }
 
   /** \brief Optimize the raw triangulation by edge swaps (Dyn, Hormann, Kim and
@@ -253,31 +179,31 @@ public:
   inline void
   setOptimize (bool optimize)
   {
-    optimize_ = optimize;
+    options_.optimize = optimize;
   }
   inline bool
   getOptimize () const
   {
-    return optimize_;
+    return options_.optimize;
   }
 
   /** \brief Options of the edge-swap optimization (cost function, fold bound). */
   inline void
   setOptimizationOptions (const meshless::EdgeSwapOptions& options)
   {
-    swap_options_ = options;
+    options_.swaps = options;
   }
   inline const meshless::EdgeSwapOptions&
   getOptimizationOptions () const
   {
-    return swap_options_;
+    return options_.swaps;
   }
 
   /** \brief Called after each stage with its timing; return false to cancel. */
   inline void
   setProgressCallback (ProgressCallback callback)
   {
-    progress_ = std::move (callback);
+    options_.progress = std::move (callback);
   }
 
   /** \brief Sphere topology: how many further base meshes (the next rotations and
@@ -290,12 +216,12 @@ public:
   inline void
   setBaseRetries (int retries)
   {
-    base_retries_ = retries;
+    options_.base_retries = retries;
   }
   inline int
   getBaseRetries () const
   {
-    return base_retries_;
+    return options_.base_retries;
   }
 
   /** \brief Whether the output check counts self-intersecting triangle pairs
@@ -304,12 +230,12 @@ public:
   inline void
   setCheckSelfIntersections (bool check)
   {
-    check_self_intersections_ = check;
+    options_.check_self_intersections = check;
   }
   inline bool
   getCheckSelfIntersections () const
   {
-    return check_self_intersections_;
+    return options_.check_self_intersections;
   }
 
   /** \brief Whether a mesh whose triangles still intersect each other in local
@@ -323,12 +249,42 @@ public:
   inline void
   setAllowSelfIntersections (bool allow)
   {
-    allow_self_intersections_ = allow;
+    options_.allow_self_intersections = allow;
   }
   inline bool
   getAllowSelfIntersections () const
   {
-    return allow_self_intersections_;
+    return options_.allow_self_intersections;
+  }
+
+  /** \brief Worker threads for the stages that run in parallel (neighbour queries,
+    * rings, weights, patches, checks, swaps); 0 (default) uses all cores. The result
+    * is the same for every count. No global OpenMP setting is touched. */
+  inline void
+  setNumberOfThreads (unsigned int nr_threads = 0)
+  {
+    options_.num_threads = nr_threads;
+  }
+  inline unsigned int
+  getNumberOfThreads () const
+  {
+    return options_.num_threads;
+  }
+
+  /** \brief Return the allocator's freed memory to the operating system between
+    * stages (glibc's malloc_trim). Lowers the peak resident memory of large clouds,
+    * whose stages free and allocate hundreds of MB; it trims the whole process's
+    * heap, which belongs to the host application, so it is off by default (the
+    * command-line tool turns it on). */
+  inline void
+  setReleaseFreedMemory (bool release)
+  {
+    options_.release_freed_memory = release;
+  }
+  inline bool
+  getReleaseFreedMemory () const
+  {
+    return options_.release_freed_memory;
   }
 
   /** \brief Reconstruct a mesh over the input cloud (all of it, as
@@ -374,19 +330,7 @@ private:
   bool
   triangulate (std::vector<pcl::Vertices>& polygons);
 
-  Topology topology_ = Topology::Sphere;
-  int k_ = 12;
-  double radius_ = 0.0;
-  WeightType weights_ = WeightType::MeanValue;
-  BasePolyhedron polyhedron_ = BasePolyhedron::BySize;
-  pcl::Indices base_vertices_;
-  std::vector<pcl::Vertices> base_faces_;
-  ProgressCallback progress_;
-  bool check_self_intersections_ = true;
-  bool allow_self_intersections_ = false;
-  bool optimize_ = true;
-  meshless::EdgeSwapOptions swap_options_;
-  int base_retries_ = 2;
+  meshless::ReconstructionOptions options_;
   SphericalMeshlessReport report_;
 };
 

@@ -1,0 +1,410 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include "retry_policy.h"
+
+#include <pcl/surface/meshless/convex_hull.h>
+#include <pcl/surface/meshless/disc_pipeline.h>
+#include <pcl/surface/meshless/freed_memory.h>
+#include <pcl/surface/meshless/reconstruct.h>
+#include <pcl/surface/meshless/spatial_order.h>
+
+#include <Eigen/Eigenvalues> // SelfAdjointEigenSolver
+
+#include <algorithm>
+#include <cstdint>
+#include <cstdio>
+#include <limits>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+/** \brief Marks every exact duplicate after the first of its position. Sorting one
+  * contiguous array of coordinates is far faster than sorting indices that load
+  * their points. */
+std::vector<char>
+firstOfEachPosition (const std::vector<Eigen::Vector3f>& xyz, std::size_t& num_duplicates)
+{
+  struct Keyed
+  {
+    float x, y, z;
+    std::uint32_t k;
+  };
+  std::vector<Keyed> sorted (xyz.size ());
+  for (std::size_t k = 0; k < xyz.size (); ++k)
+    sorted[k] = {xyz[k].x (), xyz[k].y (), xyz[k].z (), static_cast<std::uint32_t> (k)};
+  // By position, then by index, so that the first of equal points is kept.
+  std::sort (sorted.begin (), sorted.end (), [] (const Keyed& a, const Keyed& b) {
+    if (a.x != b.x)
+      return a.x < b.x;
+    if (a.y != b.y)
+      return a.y < b.y;
+    if (a.z != b.z)
+      return a.z < b.z;
+    return a.k < b.k;
+  });
+  std::vector<char> keep (xyz.size (), 1);
+  num_duplicates = 0;
+  for (std::size_t j = 1; j < sorted.size (); ++j)
+    if (sorted[j].x == sorted[j - 1].x && sorted[j].y == sorted[j - 1].y &&
+        sorted[j].z == sorted[j - 1].z) {
+      keep[sorted[j].k] = 0;
+      ++num_duplicates;
+    }
+  return keep;
+}
+
+/** \brief Float coordinates far from the origin against the cloud's size (a small
+  * object in UTM coordinates) are quantized before the class sees them: failures
+  * then say so, since the stage that fails cannot know why. */
+std::string
+precisionHint (const PreparedPoints& prepared)
+{
+  const Points3& points = prepared.points;
+  double largest = 0.0;
+  Eigen::Vector3d lo = points[0], hi = points[0];
+  for (const auto& p : points) {
+    largest = std::max (largest, (p + prepared.centroid).cwiseAbs ().maxCoeff ());
+    lo = lo.cwiseMin (p);
+    hi = hi.cwiseMax (p);
+  }
+  const double float_step =
+      largest * static_cast<double> (std::numeric_limits<float>::epsilon ());
+  const double size = (hi - lo).norm ();
+  if (!(float_step > size / 200.0))
+    return "";
+  char text[256];
+  std::snprintf (text, sizeof text,
+                 " (the coordinates reach %.3g against a cloud %.3g across: in float they "
+                 "are only %.3g apart there; subtract an offset such as the centroid "
+                 "before filling the cloud)",
+                 largest, size, float_step);
+  return text;
+}
+
+/** \brief Empty, or why the points enclose no volume (all on one plane or line).
+  * The bound is relative: far below any real object's thickness and above float
+  * rounding of a tilted plane. */
+std::string
+flatness (const Points3& points)
+{
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero ();
+  for (const auto& p : points)
+    covariance += p * p.transpose ();
+  const Eigen::Vector3d variances =
+      Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> (covariance, Eigen::EigenvaluesOnly)
+          .eigenvalues (); // ascending
+  if (variances[0] > 1e-12 * variances[2])
+    return "";
+  return std::string ("all points lie ") +
+         (variances[1] > 1e-12 * variances[2] ? "in one plane" : "on one line") +
+         ": there is no closed surface through them (for a flat open surface use "
+         "setTopology (Topology::Disc))";
+}
+
+/** \brief One reconstruct () call: the first run of the pipeline, its finishing and
+  * the retries, with the failures worded for the user. */
+class Conductor
+{
+public:
+  Conductor (const PreparedPoints& prepared, const NeighbourSearch& search,
+             const ReconstructionOptions& options)
+  : prepared_ (prepared)
+  , points_ (prepared.points)
+  , search_ (search)
+  , options_ (options)
+  , sphere_ (options.topology == Topology::Sphere)
+  , record_ ([this] (const ProgressReport& stage) {
+    result_.report.stage_seconds.emplace_back (stage.stage, stage.seconds);
+    return options_.progress ? options_.progress (stage) : true;
+  })
+  , clock_ (record_)
+  , finisher_ (points_, options_, result_, clock_)
+  {}
+
+  Reconstruction
+  run ();
+
+private:
+  /** \brief The result handed to the caller (empty triangles on failure). */
+  Reconstruction
+  take ()
+  {
+    if (!result_.report.success)
+      result_.triangles.clear ();
+    return {std::move (result_.triangles), std::move (result_.report)};
+  }
+
+  bool
+  fail (const std::string& reason);
+  bool
+  searchNeighbourhoods ();
+  bool
+  userBaseMesh (BaseMesh& base_mesh);
+  bool
+  firstSphereRun ();
+  bool
+  firstDiscRun ();
+  bool
+  finalVerdict ();
+
+  const PreparedPoints& prepared_;
+  const Points3& points_;
+  const NeighbourSearch& search_;
+  const ReconstructionOptions& options_;
+  const bool sphere_;
+  CurrentResult result_;
+  ProgressCallback record_;
+  StageClock clock_;
+  MeshFinisher finisher_;
+  std::string precision_hint_; // appended to failures once the points are known
+  Neighbourhoods neighbourhoods_;
+  SpherePipelineOptions first_options_; // the first run's, for the denser retries
+  SpherePipelineOptions kept_options_;  // those the result came from
+};
+
+bool
+Conductor::fail (const std::string& reason)
+{
+  result_.report.message = reason + precision_hint_;
+  result_.triangles.clear ();
+  return false;
+}
+
+bool
+Conductor::searchNeighbourhoods ()
+{
+  clock_.restart ();
+  neighbourhoods_ = search_ (options_.k);
+  if (!neighbourhoods_.success)
+    return fail (neighbourhoods_.message);
+  if (neighbourhoods_.num_empty > 0)
+    return fail (std::to_string (neighbourhoods_.num_empty) + " point(s) have no neighbour" +
+                 (options_.radius > 0.0 ? " within the search radius (increase setSearchRadius)"
+                                        : " (check setNumberOfNeighbours)"));
+  if (!clock_.done ("neighbourhoods", 0.02, std::to_string (points_.size ()) + " points"))
+    return fail ("cancelled by the progress callback");
+  result_.report.neighbours_k = options_.radius > 0.0 ? 0 : options_.k;
+  return true;
+}
+
+bool
+Conductor::userBaseMesh (BaseMesh& base_mesh)
+{
+  // The user's base mesh refers to cloud indices; the pipeline to its points.
+  const pcl::Indices& cloud_indices = prepared_.cloud_indices;
+  std::vector<std::pair<pcl::index_t, pcl::index_t>> pipeline_of; // (cloud, pipeline)
+  pipeline_of.reserve (cloud_indices.size ());
+  for (std::size_t i = 0; i < cloud_indices.size (); ++i)
+    pipeline_of.emplace_back (cloud_indices[i], static_cast<pcl::index_t> (i));
+  std::sort (pipeline_of.begin (), pipeline_of.end ());
+  for (const auto v : options_.base_vertices) {
+    const auto it = std::lower_bound (pipeline_of.begin (), pipeline_of.end (),
+                                      std::make_pair (static_cast<pcl::index_t> (v),
+                                                      pcl::index_t{-1}));
+    if (it == pipeline_of.end () || it->first != v)
+      return fail ("a base mesh vertex is not a finite, distinct input point (setBaseMesh)");
+    base_mesh.vertices.push_back (it->second);
+  }
+  for (const auto& face : options_.base_faces) {
+    if (face.vertices.size () != 3)
+      return fail ("base mesh faces must be triangles (setBaseMesh)");
+    base_mesh.faces.push_back ({static_cast<int> (face.vertices[0]),
+                                static_cast<int> (face.vertices[1]),
+                                static_cast<int> (face.vertices[2])});
+  }
+  return true;
+}
+
+bool
+Conductor::firstSphereRun ()
+{
+  SpherePipelineOptions options;
+  options.weights = options_.weights;
+  options.polyhedron = options_.polyhedron;
+  options.progress = record_;
+  // The swaps' angle pass starts inside the patches, where they are triangulated in
+  // parallel (flipFlatEdgesInPatch); the swaps find most of it done.
+  options.patch_flips.enabled = options_.optimize && options_.swaps.improve_angles;
+  options.patch_flips.max_dihedral_deg = options_.swaps.angle_pass_max_dihedral_deg;
+  options.patch_flips.max_fold_angle_deg = options_.swaps.max_fold_angle_deg;
+  if (!options_.base_faces.empty () && !userBaseMesh (options.user_base_mesh))
+    return false;
+  first_options_ = options;
+  SphereTriangulation first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
+  if (options_.release_freed_memory)
+    releaseFreedMemory (); // the pipeline's graphs and factors
+  ReconstructionReport& report = result_.report;
+  report.stats = first.stats;
+  if (first.success) {
+    result_.triangles = std::move (first.triangles);
+    result_.normals = std::move (first.normals);
+    kept_options_ = options;
+    return true;
+  }
+  // A few dozen points leave the pipeline too little to work with; if they all lie
+  // on their convex hull, that is the closed surface through them.
+  if (options_.base_faces.empty ())
+    result_.triangles = convexHullThroughAll (points_, max_hull_points);
+  if (result_.triangles.empty ()) {
+    // Neighbourhoods spanning much of the cloud are not local: name the setter.
+    const std::size_t n = points_.size ();
+    const bool wide = 4 * neighbourhoods_.neighbours.numEntries () >= n * n;
+    return fail ("the spherical reconstruction failed: " + first.message +
+                 (wide ? std::string (" (the neighbourhoods span a quarter of the cloud or "
+                                      "more on average: lower ") +
+                             (options_.radius > 0.0 ? "setSearchRadius)"
+                                                    : "setNumberOfNeighbours)")
+                       : std::string ()));
+  }
+  report.convex_hull = true;
+  clock_.restart ();
+  clock_.done ("hull", 0.9, std::to_string (result_.triangles.size ()) + " triangles");
+  return true;
+}
+
+bool
+Conductor::firstDiscRun ()
+{
+  DiscPipelineOptions options;
+  options.weights = options_.weights;
+  options.progress = record_;
+  DiscTriangulation disc = triangulateDisc (points_, neighbourhoods_.neighbours, options);
+  if (!disc.success)
+    return fail ("the disc reconstruction failed: " + disc.message);
+  result_.report.holes = disc.holes;
+  result_.triangles = std::move (disc.triangles);
+  return true;
+}
+
+bool
+Conductor::finalVerdict ()
+{
+  ReconstructionReport& report = result_.report;
+  if (sphere_ && finisher_.turnsBack (result_.triangles, result_.normals, report.mesh,
+                                      report.area_against_normals,
+                                      report.distant_intersecting_pairs))
+    return fail ("the cloud does not look like the surface of one sphere-like object: a "
+                 "closed mesh through it intersects itself (" +
+                 std::to_string (report.mesh.self_intersecting_pairs) + " pairs" +
+                 (report.distant_intersecting_pairs > 0
+                      ? ", " + std::to_string (report.distant_intersecting_pairs) +
+                            " of them between parts of it far apart"
+                      : std::string ()) +
+                 ") and " +
+                 std::to_string (static_cast<int> (100.0 * report.area_against_normals + 0.5)) +
+                 "% of its area faces against the cloud's normals (a handle, genus > 0; a "
+                 "boundary: use setTopology (Topology::Disc); parts thinner than the point "
+                 "spacing: sample them more densely; or far outliers: remove them)");
+  if (report.mesh.self_intersecting_pairs > 0 && !options_.allow_self_intersections)
+    return fail (std::to_string (report.mesh.self_intersecting_pairs) +
+                 " pair(s) of triangles still intersect each other after the repair" +
+                 (sphere_ ? " and the retries, in local folds" : "") +
+                 " (parts thinner than the point spacing, or noise): the mesh is " +
+                 (sphere_ ? "closed" : "manifold") +
+                 " but not embedded (setAllowSelfIntersections (true) returns it anyway; "
+                 "more neighbours or a denser sample may avoid the folds)");
+  report.success = true;
+  return true;
+}
+
+Reconstruction
+Conductor::run ()
+{
+  const std::size_t n = points_.size ();
+  result_.report.num_points = n;
+  result_.report.num_duplicates = prepared_.num_duplicates;
+  if (n < (sphere_ ? 4u : 3u)) {
+    fail (std::string ("a ") +
+          (sphere_ ? "closed surface needs at least four" : "disc needs at least three") +
+          " distinct finite points; the input has " + std::to_string (n));
+    return take ();
+  }
+  precision_hint_ = precisionHint (prepared_);
+  const std::string flat = sphere_ ? flatness (points_) : "";
+  if (!flat.empty () || !searchNeighbourhoods () ||
+      !(sphere_ ? firstSphereRun () : firstDiscRun ())) {
+    if (!flat.empty ())
+      fail (flat);
+    return take ();
+  }
+  finisher_.useNeighbours (&neighbourhoods_.neighbours);
+  FinishedMesh first;
+  const std::string problem = finisher_.finish (result_.triangles, result_.normals, first);
+  result_.adopt (std::move (first));
+  if (!problem.empty ()) {
+    fail (problem);
+    return take ();
+  }
+  if (sphere_) {
+    RetryPolicy policy (points_, options_, finisher_, result_, clock_);
+    if (!policy.run (first_options_, kept_options_, neighbourhoods_.neighbours, search_)) {
+      fail ("cancelled by the progress callback");
+      return take ();
+    }
+  }
+  finalVerdict ();
+  return take ();
+}
+
+} // namespace
+
+PreparedPoints
+preparePoints (const std::vector<Eigen::Vector3f>& xyz, const pcl::Indices& cloud_indices)
+{
+  PreparedPoints prepared;
+  const std::vector<char> keep = firstOfEachPosition (xyz, prepared.num_duplicates);
+  std::vector<std::size_t> kept;
+  kept.reserve (xyz.size () - prepared.num_duplicates);
+  for (std::size_t k = 0; k < xyz.size (); ++k)
+    if (keep[k])
+      kept.push_back (k);
+  const std::size_t n = kept.size ();
+  for (const auto k : kept)
+    prepared.centroid += xyz[k].cast<double> ();
+  if (n > 0)
+    prepared.centroid /= static_cast<double> (n);
+  Points3 points (n);
+  for (std::size_t i = 0; i < n; ++i)
+    points[i] = xyz[kept[i]].cast<double> () - prepared.centroid;
+  // Every stage walks neighbourhoods: numbered along a Z-order curve, neighbours in
+  // space are mostly neighbours in memory.
+  const std::vector<pcl::index_t> order = mortonOrder (points);
+  prepared.points.resize (n);
+  prepared.cloud_indices.resize (n);
+  for (std::size_t i = 0; i < n; ++i) {
+    prepared.points[i] = points[order[i]];
+    prepared.cloud_indices[i] = cloud_indices[kept[order[i]]];
+  }
+  return prepared;
+}
+
+std::string
+checkOptions (const ReconstructionOptions& options)
+{
+  if (!(options.radius >= 0.0) || !std::isfinite (options.radius))
+    return "the search radius must be finite and not negative (setSearchRadius)";
+  if (options.radius == 0.0 && options.k < 3)
+    return "the number of neighbours must be at least 3 (setNumberOfNeighbours)";
+  if (options.base_retries < 0)
+    return "the number of base mesh retries must not be negative (setBaseRetries)";
+  return "";
+}
+
+Reconstruction
+reconstruct (const PreparedPoints& prepared,
+             const NeighbourSearch& search,
+             const ReconstructionOptions& options)
+{
+  Reconstruction result;
+  result.report.message = checkOptions (options);
+  if (!result.report.message.empty ())
+    return result;
+  return Conductor (prepared, search, options).run ();
+}
+
+} // namespace meshless
+} // namespace pcl

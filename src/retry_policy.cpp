@@ -1,0 +1,356 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include "retry_policy.h"
+
+#include <pcl/surface/meshless/convex_hull.h>
+#include <pcl/surface/meshless/freed_memory.h>
+
+#include <algorithm>
+
+namespace pcl {
+namespace meshless {
+
+void
+CurrentResult::adopt (FinishedMesh&& finished)
+{
+  report.optimization = std::move (finished.optimization);
+  report.raw_fold_repair = std::move (finished.raw_repair);
+  report.fold_repair = std::move (finished.repair);
+  report.mesh = std::move (finished.mesh);
+}
+
+// ---------------------------------------------------------------------------
+
+MeshFinisher::MeshFinisher (const Points3& points, const ReconstructionOptions& options,
+                            const CurrentResult& current, StageClock& clock)
+: points_ (points)
+, options_ (options)
+, current_ (current)
+, clock_ (clock)
+, sphere_ (options.topology == Topology::Sphere)
+{
+  check_.check_self_intersections = options.check_self_intersections;
+  check_.max_listed_intersections = 65536; // for distantIntersectingPairs and the repair
+  check_.num_threads = static_cast<int> (options.num_threads);
+}
+
+double
+MeshFinisher::areaAgainstNormals (const Triangles& triangles, const Normals& normals) const
+{
+  if (!sphere_ || normals.size () != points_.size ())
+    return 0.0;
+  // A mesh turned as a whole faces against its normals everywhere; the check below
+  // turns it, so it counts as facing along them.
+  const double against = areaFacingAgainstNormals (points_, triangles, normals);
+  return std::min (against, 1.0 - against);
+}
+
+bool
+MeshFinisher::turnsBack (const Triangles& triangles, const Normals& normals,
+                         const MeshReport& mesh, double& against, std::size_t& distant) const
+{
+  against = areaAgainstNormals (triangles, normals);
+  distant = sphere_ ? distantIntersectingPairs (points_.size (), triangles,
+                                                mesh.intersecting_pairs, max_local_fold_hops)
+                    : 0;
+  return mesh.self_intersecting_pairs > 0 &&
+         (against > max_area_against_normals || distant > 0);
+}
+
+bool
+MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
+                           const char* stage, FoldRepairResult& repair,
+                           std::vector<char>* rewritten)
+{
+  // Only where the listed pairs are complete and the mesh does not turn back over
+  // much of its area: such a cloud is rejected whatever the repair does, and its
+  // thousands of pairs would cost seconds.
+  repair = {};
+  if (mesh.self_intersecting_pairs == 0 ||
+      mesh.intersecting_pairs.size () != mesh.self_intersecting_pairs || !mesh.isManifold () ||
+      !mesh.isOriented () || areaAgainstNormals (triangles, normals) > max_area_against_normals)
+    return true;
+  clock_.restart ();
+  FoldRepairOptions repair_options;
+  if (normals.size () == points_.size ()) {
+    repair_options.neighbours = neighbours_;
+    repair_options.normals = &normals;
+  }
+  repair_options.rewritten = rewritten;
+  repair = repairFoldsByReinsertion (points_, triangles, mesh.intersecting_pairs, repair_options);
+  return clock_.done (stage, 1.0,
+                      std::to_string (repair.pairs_before) + " -> " +
+                          std::to_string (repair.pairs_after) + " intersecting pairs, " +
+                          std::to_string (repair.regions_remeshed) + " discs re-meshed, " +
+                          std::to_string (repair.swaps) + " swaps");
+}
+
+bool
+MeshFinisher::checkAndRepairRaw (Triangles& triangles, const Normals& normals,
+                                 FinishedMesh& finished, EdgeSwapOptions& swaps)
+{
+  // The raw folds first: re-meshed in discs they come out as the surface runs,
+  // while the swaps' own removal of intersections can leave webs across parts
+  // thinner than the point spacing.
+  clock_.restart ();
+  const MeshReport raw = checkMesh (points_, triangles, check_);
+  if (raw.self_intersections_checked &&
+      raw.intersecting_pairs.size () == raw.self_intersecting_pairs) {
+    rewritten_.assign (triangles.size (), 0);
+    raw_pairs_ = raw.intersecting_pairs;
+  }
+  if (!clock_.done ("check raw", 0.93,
+                    std::to_string (raw.self_intersecting_pairs) + " intersecting pairs") ||
+      !repairFolds (triangles, normals, raw, "repair raw", finished.raw_repair,
+                    rewritten_.empty () ? nullptr : &rewritten_))
+    return false;
+  // The repair ran only on a complete list and counts exactly; where it left no
+  // pair, the swaps need not count again.
+  const FoldRepairResult& repair = finished.raw_repair;
+  const bool repaired = repair.success && repair.pairs_before > 0 &&
+                        repair.pairs_before == raw.self_intersecting_pairs &&
+                        repair.pairs_after == 0;
+  swaps.input_free_of_intersections =
+      raw.self_intersections_checked && (raw.self_intersecting_pairs == 0 || repaired);
+  return true;
+}
+
+std::string
+MeshFinisher::optimize (Triangles& triangles, const Normals& normals, FinishedMesh& finished)
+{
+  EdgeSwapOptions swaps = options_.swaps;
+  swaps.renumber_vertices = false; // the points follow a Z-order curve already
+  swaps.num_threads = static_cast<int> (options_.num_threads);
+  if (sphere_ && options_.check_self_intersections &&
+      !checkAndRepairRaw (triangles, normals, finished, swaps))
+    return "cancelled by the progress callback";
+  if (options_.release_freed_memory)
+    releaseFreedMemory (); // the checks' and the repair's arrays
+  swaps.rewritten = rewritten_.empty () ? nullptr : &rewritten_;
+  clock_.restart ();
+  finished.optimization = optimizeBySwaps (points_, triangles, swaps);
+  if (!finished.optimization.success)
+    return "the edge-swap optimization failed: " + finished.optimization.message +
+           " (setOptimize (false) skips it)";
+  if (!clock_.done ("optimize", 0.95, std::to_string (finished.optimization.swaps) + " swaps"))
+    return "cancelled by the progress callback";
+  return "";
+}
+
+void
+MeshFinisher::checkFinal (const Triangles& triangles, FinishedMesh& finished)
+{
+  clock_.restart ();
+  MeshCheckOptions final_check = check_;
+  if (!rewritten_.empty ()) {
+    std::vector<char>& known_apart = rewritten_; // in place: known apart = not rewritten
+    for (char& r : known_apart)
+      r = !r;
+    for (const auto& [s, t] : raw_pairs_)
+      known_apart[s] = known_apart[t] = 0;
+    final_check.known_apart = &known_apart;
+  }
+  finished.mesh = checkMesh (points_, triangles, final_check);
+  clock_.done ("check", 1.0);
+}
+
+std::string
+MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh) const
+{
+  // A closed, consistently oriented mesh with a negative volume is inside out as a
+  // whole (one far outlier with an unreliable normal can carry the orientation
+  // vote): reversing every triangle turns it, and only the volume's sign changes.
+  // Judged after the repair, since re-meshing an outlier's fan moves much volume.
+  if (sphere_ && mesh.isSphereLike () && mesh.signed_volume < 0.0) {
+    for (auto& t : triangles)
+      std::swap (t[1], t[2]);
+    mesh.signed_volume = -mesh.signed_volume;
+  }
+  const std::size_t n = points_.size ();
+  const long holes = static_cast<long> (current_.report.holes);
+  const bool valid =
+      sphere_ ? mesh.isSphereLike () && triangles.size () == 2 * n - 4 && mesh.signed_volume > 0.0
+              : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
+                    mesh.boundary_loops == static_cast<std::size_t> (1 + holes) &&
+                    mesh.euler_characteristic == 1 - holes;
+  if (!valid || mesh.unused_vertices != 0)
+    return "the result failed its own check (a bug; please report it with the cloud): " +
+           describe (mesh);
+  return "";
+}
+
+std::string
+MeshFinisher::finish (Triangles& triangles, const Normals& normals, FinishedMesh& finished)
+{
+  rewritten_.clear ();
+  raw_pairs_.clear ();
+  if (options_.optimize && !current_.report.convex_hull) {
+    const std::string problem = optimize (triangles, normals, finished);
+    if (!problem.empty ())
+      return problem;
+  }
+  checkFinal (triangles, finished);
+  // Local folds the swaps could not open: re-meshed, then checked again (the pair
+  // list must be complete for the repair to trust it).
+  if (!repairFolds (triangles, normals, finished.mesh, "repair", finished.repair))
+    return "cancelled by the progress callback";
+  if (finished.repair.regions_remeshed > 0)
+    finished.mesh = checkMesh (points_, triangles, check_);
+  return verdict (triangles, finished.mesh);
+}
+
+// ---------------------------------------------------------------------------
+
+RetryPolicy::RetryPolicy (const Points3& points, const ReconstructionOptions& options,
+                          MeshFinisher& finisher, CurrentResult& current, StageClock& clock)
+: points_ (points), options_ (options), finisher_ (finisher), current_ (current), clock_ (clock)
+{}
+
+bool
+RetryPolicy::currentTurnsBack ()
+{
+  return finisher_.turnsBack (current_.triangles, current_.normals, current_.report.mesh,
+                              current_.report.area_against_normals,
+                              current_.report.distant_intersecting_pairs);
+}
+
+int
+RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
+                         SpherePipelineStats* stats)
+{
+  kept = false;
+  SphereTriangulation other = triangulateSphere (points_, *neighbours_, options);
+  if (stats)
+    *stats = other.stats;
+  if (!other.success)
+    return -1;
+  const int attempt = other.stats.base_attempt;
+  FinishedMesh finished;
+  double against = 0.0;
+  std::size_t distant = 0;
+  if (finisher_.finish (other.triangles, other.normals, finished).empty () &&
+      finished.mesh.self_intersecting_pairs < current_.report.mesh.self_intersecting_pairs &&
+      !finisher_.turnsBack (other.triangles, other.normals, finished.mesh, against, distant)) {
+    current_.triangles = std::move (other.triangles);
+    current_.normals = std::move (other.normals);
+    current_.report.stats = other.stats;
+    if (denser_)
+      current_.report.neighbours_k = options_.k + 2;
+    current_.adopt (std::move (finished));
+    kept = true;
+  }
+  return attempt;
+}
+
+void
+RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineStats& first)
+{
+  // Where the surface is thinner than the point spacing, kNN edges join its two
+  // sides and the patches fold there: try again with those edges dropped (see
+  // buildSurfaceGraphs), also when the first result turns back, since folds across
+  // thin parts can turn a genus-0 cloud's first mesh back. A second result that
+  // does not turn back passes the test the first one failed, so the further base
+  // meshes may then run.
+  int last_attempt = first.base_attempt;
+  ReconstructionReport& report = current_.report;
+  if (report.mesh.self_intersecting_pairs > 0 && first.thin_part_edges > 0) {
+    SpherePipelineOptions thin = options;
+    thin.separate_thin_sheets = true;
+    bool kept = false;
+    SpherePipelineStats stats;
+    tryAnother (thin, kept, &stats);
+    if (kept) {
+      report.thin_sheet_retry = true;
+      options = thin;
+      last_attempt = stats.base_attempt;
+    }
+  }
+  // Other base meshes cut the surface elsewhere, and a fold left by one layout may
+  // not form in another. Not for a result that turns back (a handle or a
+  // boundary): another layout may hide the handle behind a membrane.
+  if (!options_.base_faces.empty () || report.mesh.self_intersecting_pairs == 0 ||
+      currentTurnsBack ())
+    return;
+  for (int retry = 0; retry < options_.base_retries && report.mesh.self_intersecting_pairs > 0;
+       ++retry) {
+    SpherePipelineOptions next = options;
+    next.first_attempt = last_attempt + 1;
+    ++report.base_retries;
+    bool kept = false;
+    last_attempt = tryAnother (next, kept);
+    report.base_retry_kept |= kept;
+    if (last_attempt < 0)
+      break;
+  }
+}
+
+bool
+RetryPolicy::retryDenser (const SpherePipelineOptions& first_options,
+                          const NeighbourSearch& search)
+{
+  // Where a part is only a few points across, k neighbours may leave a point's ring
+  // one-sided or spanning the part; two more close it. Costs up to as many runs
+  // again, only on clouds that would otherwise keep their pairs.
+  clock_.restart ();
+  denser_neighbourhoods_ = search (options_.k + 2);
+  if (!denser_neighbourhoods_.success || denser_neighbourhoods_.num_empty != 0)
+    return true;
+  if (!clock_.done ("neighbourhoods", 0.02,
+                    std::to_string (points_.size ()) + " points, k = " +
+                        std::to_string (options_.k + 2)))
+    return false;
+  neighbours_ = &denser_neighbourhoods_.neighbours;
+  denser_ = true;
+  finisher_.useNeighbours (neighbours_);
+  SpherePipelineStats stats;
+  bool kept = false;
+  if (tryAnother (first_options, kept, &stats) >= 0)
+    retrySequence (first_options, stats);
+  return true;
+}
+
+void
+RetryPolicy::convexHullFallback ()
+{
+  // A small cloud whose mesh still intersects itself (its neighbourhoods span much
+  // of it): if every point lies on the convex hull, the hull is the closed surface
+  // through them, free of intersections.
+  ReconstructionReport& report = current_.report;
+  Triangles hull = convexHullThroughAll (points_, max_hull_points);
+  FinishedMesh finished;
+  report.convex_hull = !hull.empty ();
+  if (report.convex_hull && finisher_.finish (hull, current_.normals, finished).empty () &&
+      finished.mesh.self_intersecting_pairs == 0) {
+    current_.triangles = std::move (hull);
+    current_.adopt (std::move (finished));
+    clock_.restart ();
+    clock_.done ("hull", 1.0, std::to_string (current_.triangles.size ()) + " triangles");
+  }
+  else
+    report.convex_hull = false;
+}
+
+bool
+RetryPolicy::run (const SpherePipelineOptions& first_options,
+                  const SpherePipelineOptions& kept_options, const CsrGraph& neighbours,
+                  const NeighbourSearch& search)
+{
+  neighbours_ = &neighbours;
+  finisher_.useNeighbours (neighbours_);
+  ReconstructionReport& report = current_.report;
+  retrySequence (kept_options, report.stats);
+  if (options_.base_faces.empty () && options_.radius == 0.0 && options_.base_retries > 0 &&
+      report.mesh.self_intersecting_pairs > 0 && !currentTurnsBack () &&
+      static_cast<std::size_t> (options_.k) + 2 < points_.size () &&
+      !retryDenser (first_options, search))
+    return false;
+  if (!report.convex_hull && report.mesh.self_intersecting_pairs > 0 &&
+      options_.base_faces.empty () && points_.size () <= max_hull_points)
+    convexHullFallback ();
+  return true;
+}
+
+} // namespace meshless
+} // namespace pcl

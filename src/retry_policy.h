@@ -1,0 +1,150 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include "common/stage_clock.h"
+
+#include <pcl/surface/meshless/reconstruct.h>
+
+#include <string>
+#include <vector>
+
+namespace pcl {
+namespace meshless {
+
+using Normals = std::vector<Eigen::Vector3f>;
+
+/** \brief What finishing did to one triangulation; the report takes it over when
+  * that triangulation becomes the result. */
+struct FinishedMesh
+{
+  EdgeSwapResult optimization;
+  FoldRepairResult raw_repair, repair;
+  MeshReport mesh;
+};
+
+/** \brief The result so far of one reconstruction: its triangles, the oriented
+  * point normals they came with (sphere topology) and the report. */
+struct CurrentResult
+{
+  Triangles triangles;
+  Normals normals;
+  ReconstructionReport report;
+
+  void
+  adopt (FinishedMesh&& finished);
+};
+
+/** \brief Turns a raw triangulation into a checked result: the raw folds re-meshed,
+  * the edge swaps, the class's own check, the folds left re-meshed, outward
+  * orientation, and the invariants of the topology. */
+class MeshFinisher
+{
+public:
+  MeshFinisher (const Points3& points, const ReconstructionOptions& options,
+                const CurrentResult& current, StageClock& clock);
+
+  /** \brief Neighbourhoods the fold repair uses (the denser ones after k + 2). */
+  void
+  useNeighbours (const CsrGraph* neighbours)
+  {
+    neighbours_ = neighbours;
+  }
+
+  /** \return an empty string, or what is wrong with the finished mesh. */
+  std::string
+  finish (Triangles& triangles, const Normals& normals, FinishedMesh& finished);
+
+  /** \brief Sphere topology: the share of the mesh's area facing against the
+    * oriented normals, the mesh turned as a whole counting as facing along them. */
+  double
+  areaAgainstNormals (const Triangles& triangles, const Normals& normals) const;
+
+  /** \brief A closed genus-0 surface through a cloud with handles or a boundary
+    * turns back over itself: it intersects itself, and large parts of it face
+    * against the normals or it passes through itself between parts far apart. */
+  bool
+  turnsBack (const Triangles& triangles, const Normals& normals, const MeshReport& mesh,
+             double& against, std::size_t& distant) const;
+
+private:
+  bool
+  repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
+               const char* stage, FoldRepairResult& repair,
+               std::vector<char>* rewritten = nullptr);
+  bool
+  checkAndRepairRaw (Triangles& triangles, const Normals& normals, FinishedMesh& finished,
+                     EdgeSwapOptions& swaps);
+  std::string
+  optimize (Triangles& triangles, const Normals& normals, FinishedMesh& finished);
+  void
+  checkFinal (const Triangles& triangles, FinishedMesh& finished);
+  std::string
+  verdict (Triangles& triangles, MeshReport& mesh) const;
+
+  const Points3& points_;
+  const ReconstructionOptions& options_;
+  const CurrentResult& current_;
+  StageClock& clock_;
+  const CsrGraph* neighbours_ = nullptr;
+  bool sphere_;
+  MeshCheckOptions check_;
+  // Slots the repair and the swaps rewrite after a raw check that listed all its
+  // pairs: the final check then tests only pairs with a triangle rewritten since.
+  std::vector<char> rewritten_;
+  std::vector<std::pair<std::size_t, std::size_t>> raw_pairs_;
+};
+
+/** \brief The sphere pipeline's retries while the result intersects itself: thin
+  * parts separated, further base meshes, the whole sequence on k + 2 neighbours,
+  * and for a small cloud in convex position its hull. A run replaces the result
+  * only if it is valid, does not turn back and intersects itself less. */
+class RetryPolicy
+{
+public:
+  RetryPolicy (const Points3& points, const ReconstructionOptions& options,
+               MeshFinisher& finisher, CurrentResult& current, StageClock& clock);
+
+  /** \brief All retries after a first run with `first_options` on `neighbours`
+    * (the given k); `kept_options` are the options the current result came from.
+    * \return false if the progress callback cancelled. */
+  bool
+  run (const SpherePipelineOptions& first_options, const SpherePipelineOptions& kept_options,
+       const CsrGraph& neighbours, const NeighbourSearch& search);
+
+  /** \brief Whether the current result turns back (records the figures in the
+    * report). */
+  bool
+  currentTurnsBack ();
+
+  /** \brief One more run of the pipeline with `options`; replaces the result if it
+    * is better. \return the attempt whose base mesh the run used, or -1. */
+  int
+  tryAnother (const SpherePipelineOptions& options, bool& kept,
+              SpherePipelineStats* stats = nullptr);
+
+  /** \brief The thin-part run, then further base meshes, after a run with
+    * `options` whose statistics are `first`. */
+  void
+  retrySequence (SpherePipelineOptions options, const SpherePipelineStats& first);
+
+private:
+  bool
+  retryDenser (const SpherePipelineOptions& first_options, const NeighbourSearch& search);
+  void
+  convexHullFallback ();
+
+  const Points3& points_;
+  const ReconstructionOptions& options_;
+  MeshFinisher& finisher_;
+  CurrentResult& current_;
+  StageClock& clock_;
+  const CsrGraph* neighbours_ = nullptr;
+  bool denser_ = false;
+  Neighbourhoods denser_neighbourhoods_;
+};
+
+} // namespace meshless
+} // namespace pcl
