@@ -1,0 +1,176 @@
+// The PointT-free entry point and its retry policy, driven without PCL's search.
+#include "retry_policy.h"
+
+#include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/reconstruct.h>
+#include <pcl/surface/meshless/synthetic_clouds.h>
+
+#include "test_support.h"
+
+#include <gtest/gtest.h>
+
+#include <numeric>
+
+namespace {
+
+using namespace pcl::meshless;
+
+PreparedPoints
+prepared (const Points3& points)
+{
+  std::vector<Eigen::Vector3f> xyz;
+  for (const auto& p : points)
+    xyz.push_back (p.cast<float> ());
+  pcl::Indices indices (points.size ());
+  std::iota (indices.begin (), indices.end (), 0);
+  return preparePoints (xyz, indices);
+}
+
+/** Brute-force neighbourhoods that remember which k they were asked for. */
+struct CountingSearch
+{
+  const Points3* points;
+  std::vector<int> asked;
+
+  NeighbourSearch
+  function ()
+  {
+    return [this] (int k) {
+      asked.push_back (k);
+      Neighbourhoods result;
+      result.neighbours = meshless_test::bruteForceKnn (*points, k);
+      result.success = true;
+      return result;
+    };
+  }
+};
+
+TEST (PreparePoints, DropsDuplicatesKeepsTheFirstAndCentres)
+{
+  const std::vector<Eigen::Vector3f> xyz = {
+      {0, 0, 0}, {2, 0, 0}, {0, 0, 0}, {0, 2, 0}, {2, 0, 0}, {0, 0, 2}};
+  const pcl::Indices source = {10, 11, 12, 13, 14, 15};
+  const PreparedPoints p = preparePoints (xyz, source);
+  EXPECT_EQ (p.num_duplicates, 2u);
+  ASSERT_EQ (p.points.size (), 4u);
+  std::vector<pcl::index_t> kept (p.cloud_indices.begin (), p.cloud_indices.end ());
+  std::sort (kept.begin (), kept.end ());
+  EXPECT_EQ (kept, (std::vector<pcl::index_t>{10, 11, 13, 15}));
+  EXPECT_TRUE (p.centroid.isApprox (Eigen::Vector3d (0.5, 0.5, 0.5)));
+  for (std::size_t i = 0; i < p.points.size (); ++i) {
+    const Eigen::Vector3d original = xyz[p.cloud_indices[i] - 10].cast<double> ();
+    EXPECT_TRUE ((p.points[i] + p.centroid).isApprox (original));
+  }
+}
+
+TEST (CheckOptions, NamesTheSetter)
+{
+  ReconstructionOptions options;
+  EXPECT_EQ (checkOptions (options), "");
+  options.k = 2;
+  EXPECT_NE (checkOptions (options).find ("setNumberOfNeighbours"), std::string::npos);
+  options = {};
+  options.radius = -1.0;
+  EXPECT_NE (checkOptions (options).find ("setSearchRadius"), std::string::npos);
+  options = {};
+  options.base_retries = -1;
+  EXPECT_NE (checkOptions (options).find ("setBaseRetries"), std::string::npos);
+}
+
+TEST (Reconstruct, ClosedSphereThroughEveryPoint)
+{
+  SyntheticCloudOptions cloud;
+  cloud.num_points = 2000;
+  const PreparedPoints points = prepared (sampleShape (SyntheticShape::BumpySphere, cloud));
+  CountingSearch search{&points.points, {}};
+  ReconstructionOptions options;
+  options.num_threads = 1;
+  const Reconstruction result = reconstruct (points, search.function (), options);
+  ASSERT_TRUE (result.report.success) << result.report.message;
+  EXPECT_EQ (result.triangles.size (), 2 * points.points.size () - 4);
+  const MeshReport mesh = checkMesh (points.points, result.triangles);
+  EXPECT_TRUE (mesh.isSphereLike ()) << describe (mesh);
+  EXPECT_EQ (mesh.self_intersecting_pairs, 0u);
+  EXPECT_EQ (mesh.unused_vertices, 0u);
+  EXPECT_GT (mesh.signed_volume, 0.0);
+  EXPECT_EQ (search.asked, std::vector<int>{12}); // a clean result asks no k + 2
+}
+
+TEST (Reconstruct, FailureIsEmptyWithAReason)
+{
+  const PreparedPoints points = prepared ({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  CountingSearch search{&points.points, {}};
+  const Reconstruction result = reconstruct (points, search.function (), {});
+  EXPECT_FALSE (result.report.success);
+  EXPECT_TRUE (result.triangles.empty ());
+  EXPECT_NE (result.report.message.find ("at least four"), std::string::npos);
+  EXPECT_TRUE (search.asked.empty ());
+}
+
+/** The policy over a first run of the pipeline whose result is pretended to keep
+  * intersecting pairs: a further base mesh that leaves none replaces it. */
+class RetryPolicyTest : public ::testing::Test
+{
+protected:
+  void
+  SetUp () override
+  {
+    SyntheticCloudOptions cloud;
+    cloud.num_points = 1500;
+    points_ = prepared (sampleShape (SyntheticShape::Sphere, cloud)).points;
+    neighbours_ = meshless_test::bruteForceKnn (points_, options_.k);
+    pipeline_.polyhedron = BasePolyhedron::Tetrahedron;
+    SphereTriangulation first = triangulateSphere (points_, neighbours_, pipeline_);
+    ASSERT_TRUE (first.success) << first.message;
+    current_.triangles = first.triangles;
+    current_.normals = first.normals;
+    current_.report.stats = first.stats;
+  }
+
+  Points3 points_;
+  CsrGraph neighbours_;
+  ReconstructionOptions options_;
+  SpherePipelineOptions pipeline_;
+  CurrentResult current_;
+  ProgressCallback progress_;
+  StageClock clock_{progress_};
+};
+
+TEST_F (RetryPolicyTest, KeepsABetterRunOnly)
+{
+  MeshFinisher finisher (points_, options_, current_, clock_);
+  RetryPolicy policy (points_, neighbours_, options_, finisher, current_, clock_);
+  bool kept = true;
+  current_.report.mesh.self_intersecting_pairs = 0; // nothing to improve on
+  SpherePipelineOptions next = pipeline_;
+  next.first_attempt = 1;
+  EXPECT_GE (policy.tryAnother (next, kept), 1);
+  EXPECT_FALSE (kept);
+
+  current_.report.mesh.self_intersecting_pairs = 5; // pretend folds were left
+  EXPECT_GE (policy.tryAnother (next, kept), 1);
+  EXPECT_TRUE (kept);
+  EXPECT_EQ (current_.report.mesh.self_intersecting_pairs, 0u);
+  EXPECT_EQ (current_.triangles.size (), 2 * points_.size () - 4);
+}
+
+TEST_F (RetryPolicyTest, FurtherBaseMeshesStopOnceClean)
+{
+  MeshFinisher finisher (points_, options_, current_, clock_);
+  RetryPolicy policy (points_, neighbours_, options_, finisher, current_, clock_);
+  current_.report.mesh.self_intersecting_pairs = 5;
+  policy.run (pipeline_, pipeline_, {});
+  EXPECT_EQ (current_.report.base_retries, 1u); // the first further layout was clean
+  EXPECT_TRUE (current_.report.base_retry_kept);
+  EXPECT_EQ (current_.report.mesh.self_intersecting_pairs, 0u);
+
+  options_.base_retries = 0; // none asked for: nothing tried
+  CurrentResult untouched;
+  untouched.report.mesh.self_intersecting_pairs = 5;
+  MeshFinisher other_finisher (points_, options_, untouched, clock_);
+  RetryPolicy none (points_, neighbours_, options_, other_finisher, untouched, clock_);
+  none.run (pipeline_, pipeline_, {});
+  EXPECT_EQ (untouched.report.base_retries, 0u);
+}
+
+} // namespace
