@@ -44,9 +44,9 @@ loopEdgeLengths (const Points3& points, const std::vector<pcl::index_t>& loop)
 /** The fill-reducing order of a patch's matrix: approximate minimum degree on the
   * pattern of A + A^T, as Eigen::AMDOrdering computes it (the same pattern, so the
   * same order), but from a pattern built here in float: AMDOrdering wants a
-  * column-major copy of the matrix and adds its transpose in the matrix's scalar, a
-  * passing 50 MB on a 180,000-point patch, which ran beside the factorization of
-  * another patch and raised the peak memory of large clouds. */
+  * column-major copy of the matrix and adds its transpose in the matrix's scalar,
+  * a passing copy that runs beside the factorization of another patch and raises
+  * the peak memory of large clouds. */
 void
 fillReducingOrder (const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix,
                    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int>& order)
@@ -94,10 +94,8 @@ fillReducingOrder (const Eigen::SparseMatrix<double, Eigen::RowMajor>& matrix,
   * residual halves, until it is below 1e-13 of the right-hand side. Single
   * precision factors take two thirds of the memory of double ones (4 + 4 bytes per
   * nonzero instead of 8 + 4); with a condition number far below 1/epsilon each step
-  * gains several digits: on the 1M armadillo's patches 1.5e-6 -> 4e-11 -> 3e-15
-  * in two steps, the residual of double factors. Refining on to double rounding
-  * took two more solves per patch for nothing (5.7e-14 -> 2.4e-15 -> 2.4e-15 on
-  * its largest patch; 0.3 s of the chain of large factorizations on that cloud).
+  * gains several digits, and two steps reach the residual of double factors.
+  * Refining on to double rounding would cost more solves and gain nothing.
   * Returns false if the factorization failed (`problem` says why) or the residual
   * stalled above `target`. `steps` counts the refinement steps. */
 template <typename Scalar>
@@ -212,6 +210,296 @@ polygonBoundary (const Points3& points,
   return uv;
 }
 
+namespace {
+
+/** Builds the linear system of one patch (see buildMeshlessSystem): numbers the
+  * patch's points, fills one row per interior point, checks that the matrix is
+  * non-singular. */
+class MeshlessSystemBuilder
+{
+public:
+  MeshlessSystemBuilder (const Weights& weights,
+                         const std::vector<pcl::index_t>& patch_points,
+                         const std::vector<pcl::index_t>& boundary_loop,
+                         const Points2& boundary_uv,
+                         const PatchRingContext* rings)
+  : weights_ (weights)
+  , patch_points_ (patch_points)
+  , boundary_loop_ (boundary_loop)
+  , boundary_uv_ (boundary_uv)
+  , rings_ (rings)
+  {}
+
+  MeshlessSystem
+  build ()
+  {
+    if (boundary_loop_.size () < 3 || boundary_uv_.size () != boundary_loop_.size ()) {
+      system_.message = "a patch needs a boundary loop of at least three points, each with "
+                        "a parameter position";
+      return std::move (system_);
+    }
+    if (!numberPatchPoints () || !findBoundarySlots ())
+      return std::move (system_);
+    numberUnknowns ();
+    if (!fillRows () || !checkBoundaryReached ())
+      return std::move (system_);
+    system_.success = true;
+    return std::move (system_);
+  }
+
+private:
+  /** Patch-local numbering, an array over the cloud: a hash map of the patch's
+    * points took a noticeable share of the largest patches' time (and memory)
+    * before their factorization could start; filling 4 bytes per cloud point per
+    * patch costs next to nothing. \return false (the message set) on a point
+    * outside the weights or listed twice. */
+  bool
+  numberPatchPoints ()
+  {
+    const std::size_t n = weights_.neighbours.size ();
+    local_at_.assign (n, -1);
+    for (std::size_t i = 0; i < patch_points_.size (); ++i) {
+      const pcl::index_t v = patch_points_[i];
+      if (v < 0 || static_cast<std::size_t> (v) >= n) {
+        system_.message = "a patch point is not a point of the weights";
+        return false;
+      }
+      if (local_at_[v] >= 0) {
+        system_.message = "a point is listed twice in the patch";
+        return false;
+      }
+      local_at_[v] = static_cast<pcl::index_t> (i);
+    }
+    return true;
+  }
+
+  bool
+  inPatch (pcl::index_t w) const
+  {
+    return local_at_[w] >= 0;
+  }
+
+  /** Per patch point: its position in the boundary loop, or -1. \return false (the
+    * message set) if a loop point is not in the patch or repeated. */
+  bool
+  findBoundarySlots ()
+  {
+    const std::size_t n = local_at_.size ();
+    boundary_slot_.assign (patch_points_.size (), -1);
+    for (std::size_t k = 0; k < boundary_loop_.size (); ++k) {
+      const pcl::index_t v = boundary_loop_[k];
+      const pcl::index_t local = v >= 0 && static_cast<std::size_t> (v) < n ? local_at_[v] : -1;
+      if (local < 0 || boundary_slot_[local] >= 0) {
+        system_.message = "a boundary point is missing from the patch or repeated in the loop";
+        return false;
+      }
+      boundary_slot_[local] = static_cast<pcl::index_t> (k);
+    }
+    return true;
+  }
+
+  /** One unknown per interior point, in patch order. */
+  void
+  numberUnknowns ()
+  {
+    const std::size_t m = patch_points_.size ();
+    system_.unknown_of.assign (m, -1);
+    for (std::size_t i = 0; i < m; ++i)
+      if (boundary_slot_[i] < 0) {
+        system_.unknown_of[i] = static_cast<pcl::index_t> (system_.interior.size ());
+        system_.interior.push_back (static_cast<pcl::index_t> (i));
+      }
+  }
+
+  /** Rows: u_i - sum lambda_ij u_j (interior j) = sum lambda_ij u_j (boundary j), the
+    * weights restricted to the patch and renormalised to sum to one. Filled row by
+    * row in place: a triplet list (16 bytes per entry) would be alive while another
+    * patch factorizes. \return false (the message set) on a row without weights. */
+  bool
+  fillRows ()
+  {
+    const std::size_t unknowns = system_.interior.size ();
+    system_.matrix.resize (static_cast<Eigen::Index> (unknowns),
+                           static_cast<Eigen::Index> (unknowns));
+    system_.matrix.reserve (static_cast<Eigen::Index> (unknowns * 8));
+    system_.rhs = Eigen::MatrixX2d::Zero (static_cast<Eigen::Index> (unknowns), 2);
+    touches_boundary_.assign (unknowns, 0);
+    for (std::size_t row = 0; row < unknowns; ++row) {
+      const pcl::index_t v = patch_points_[system_.interior[row]];
+      const bool reaches_out = restrictWeights (v);
+      if (reaches_out && rings_ && rings_->points && rings_->candidates && rings_->normals)
+        ringInsidePatch (v);
+      if (!addRow (row)) {
+        system_.message = "an interior point of the patch has no neighbour inside the patch "
+                          "(increase the number of neighbours k or the radius)";
+        return false;
+      }
+    }
+    system_.matrix.finalize ();
+    return true;
+  }
+
+  /** Point v's weights, restricted to the patch, into row_points_/row_weights_.
+    * \return whether some of its weights lie outside the patch. */
+  bool
+  restrictWeights (pcl::index_t v)
+  {
+    row_points_.clear ();
+    row_weights_.clear ();
+    bool reaches_out = false;
+    const CsrGraph& neighbours = weights_.neighbours;
+    for (auto k = neighbours.offsets[v]; k < neighbours.offsets[v + 1]; ++k) {
+      const pcl::index_t w = neighbours.adjacency[k];
+      if (inPatch (w)) {
+        row_points_.push_back (w);
+        row_weights_.push_back (weights_.values[k]);
+      }
+      else
+        reaches_out = true;
+    }
+    return reaches_out;
+  }
+
+  /** Point v's own ring among its candidates inside the patch, and its weights
+    * there, replace the restricted ones (see PatchRingContext) where the weight
+    * type can be recomputed and succeeds. */
+  void
+  ringInsidePatch (pcl::index_t v)
+  {
+    inside_candidates_.clear ();
+    for (const pcl::index_t* w = rings_->candidates->begin (v); w != rings_->candidates->end (v);
+         ++w)
+      if (inPatch (*w))
+        inside_candidates_.push_back (*w);
+    localCoordinates (*rings_->points, v, inside_candidates_.data (),
+                      inside_candidates_.data () + inside_candidates_.size (),
+                      (*rings_->normals)[v].cast<double> (), rings_->weights.plane, local_ring_);
+    delaunayRing (local_ring_, ring_);
+    Points2 ordered_ring;
+    for (int r : ring_)
+      ordered_ring.push_back (local_ring_[r]);
+    std::vector<double> lambda;
+    const bool mean_value = rings_->weights.type == WeightType::MeanValue;
+    if ((mean_value || rings_->weights.type == WeightType::ShapePreserving) &&
+        (mean_value ? meanValueWeights (ordered_ring, lambda)
+                    : shapePreservingWeights (ordered_ring, lambda))) {
+      row_points_.clear ();
+      for (int r : ring_)
+        row_points_.push_back (inside_candidates_[r]);
+      row_weights_ = std::move (lambda);
+      ++system_.num_rerung;
+    }
+  }
+
+  /** Row `row` from row_points_/row_weights_, renormalised; boundary neighbours go
+    * to the right-hand side. \return false if the weights inside sum to zero. */
+  bool
+  addRow (std::size_t row)
+  {
+    double inside = 0.0;
+    for (double lambda : row_weights_)
+      inside += lambda;
+    if (!(inside > 0.0))
+      return false;
+    const pcl::index_t local = system_.interior[row];
+    row_entries_.clear ();
+    row_entries_.emplace_back (static_cast<pcl::index_t> (row), 1.0);
+    for (std::size_t j = 0; j < row_points_.size (); ++j) {
+      const double lambda = row_weights_[j] / inside;
+      const pcl::index_t w = local_at_[row_points_[j]];
+      if (lambda == 0.0 || w == local)
+        continue;
+      if (boundary_slot_[w] >= 0) {
+        system_.rhs.row (row) += lambda * boundary_uv_[boundary_slot_[w]].transpose ();
+        touches_boundary_[row] = 1;
+      }
+      else
+        row_entries_.emplace_back (system_.unknown_of[w], -lambda);
+    }
+    insertRow (row);
+    return true;
+  }
+
+  /** row_entries_ into the matrix, columns ascending, repeated ones summed (as
+    * setFromTriplets would). */
+  void
+  insertRow (std::size_t row)
+  {
+    std::stable_sort (row_entries_.begin (), row_entries_.end (),
+                      [] (const auto& a, const auto& b) { return a.first < b.first; });
+    std::size_t kept = 0;
+    for (std::size_t j = 0; j < row_entries_.size (); ++j)
+      if (kept > 0 && row_entries_[j].first == row_entries_[kept - 1].first)
+        row_entries_[kept - 1].second += row_entries_[j].second;
+      else
+        row_entries_[kept++] = row_entries_[j];
+    system_.matrix.startVec (static_cast<Eigen::Index> (row));
+    for (std::size_t j = 0; j < kept; ++j)
+      system_.matrix.insertBack (static_cast<Eigen::Index> (row), row_entries_[j].first) =
+          row_entries_[j].second;
+  }
+
+  /** Non-singular iff every interior point reaches the boundary along directed
+    * weight edges. Search backwards from the rows with a boundary weight; column j
+    * of the matrix lists the rows that depend on unknown j (held as row numbers
+    * only: a third of a column-major copy). \return false (the message set) if
+    * some interior point does not reach it. */
+  bool
+  checkBoundaryReached ()
+  {
+    static_assert (std::is_same<Eigen::SparseMatrix<double>::StorageIndex, pcl::index_t>::value,
+                   "the matrix's indices read as a graph");
+    const std::size_t unknowns = system_.interior.size ();
+    const CsrGraph dependents = transposeGraph (unknowns, system_.matrix.outerIndexPtr (),
+                                                system_.matrix.innerIndexPtr ());
+    std::vector<char> reaches (touches_boundary_);
+    std::vector<pcl::index_t> stack;
+    for (std::size_t row = 0; row < unknowns; ++row)
+      if (reaches[row])
+        stack.push_back (static_cast<pcl::index_t> (row));
+    while (!stack.empty ()) {
+      const pcl::index_t j = stack.back ();
+      stack.pop_back ();
+      for (const pcl::index_t* row = dependents.begin (j); row != dependents.end (j); ++row)
+        if (!reaches[*row]) {
+          reaches[*row] = 1;
+          stack.push_back (*row);
+        }
+    }
+    std::size_t cut_off = 0;
+    for (char r : reaches)
+      cut_off += !r;
+    if (cut_off > 0) {
+      system_.message = std::to_string (cut_off) +
+                        " interior point(s) of the patch have no path to its boundary (the "
+                        "patch is disconnected; increase k or the radius)";
+      return false;
+    }
+    return true;
+  }
+
+  const Weights& weights_;
+  const std::vector<pcl::index_t>& patch_points_;
+  const std::vector<pcl::index_t>& boundary_loop_;
+  const Points2& boundary_uv_;
+  const PatchRingContext* rings_;
+  MeshlessSystem system_;
+  /** Per cloud point: its position in the patch, or -1. */
+  std::vector<pcl::index_t> local_at_;
+  /** Per patch point: its position in the boundary loop, or -1. */
+  std::vector<pcl::index_t> boundary_slot_;
+  /** Per unknown: whether its row has a weight on a boundary point. */
+  std::vector<char> touches_boundary_;
+  // Scratch of one row.
+  std::vector<pcl::index_t> row_points_, inside_candidates_;
+  std::vector<double> row_weights_;
+  std::vector<std::pair<pcl::index_t, double>> row_entries_;
+  Points2 local_ring_;
+  std::vector<int> ring_;
+};
+
+} // namespace
+
 MeshlessSystem
 buildMeshlessSystem (const Weights& weights,
                      const std::vector<pcl::index_t>& patch_points,
@@ -219,178 +507,96 @@ buildMeshlessSystem (const Weights& weights,
                      const Points2& boundary_uv,
                      const PatchRingContext* rings)
 {
-  MeshlessSystem system;
-  const std::size_t m = patch_points.size ();
-  if (boundary_loop.size () < 3 || boundary_uv.size () != boundary_loop.size ()) {
-    system.message = "a patch needs a boundary loop of at least three points, each with "
-                     "a parameter position";
-    return system;
-  }
-
-  // Patch-local numbering, an array over the cloud: a hash map of the patch's
-  // points took 0.1 s of the largest patch of a million points (and 11 MB), before
-  // its factorization could start; filling 4 bytes per cloud point per patch costs
-  // a millisecond per million points.
-  const std::size_t n = weights.neighbours.size ();
-  std::vector<pcl::index_t> local_at (n, -1);
-  for (std::size_t i = 0; i < m; ++i) {
-    const pcl::index_t v = patch_points[i];
-    if (v < 0 || static_cast<std::size_t> (v) >= n) {
-      system.message = "a patch point is not a point of the weights";
-      return system;
-    }
-    if (local_at[v] >= 0) {
-      system.message = "a point is listed twice in the patch";
-      return system;
-    }
-    local_at[v] = static_cast<pcl::index_t> (i);
-  }
-  const auto inPatch = [&] (pcl::index_t w) { return local_at[w] >= 0; };
-  std::vector<pcl::index_t> boundary_slot (m, -1); // position in the boundary loop
-  for (std::size_t k = 0; k < boundary_loop.size (); ++k) {
-    const pcl::index_t v = boundary_loop[k];
-    const pcl::index_t local = v >= 0 && static_cast<std::size_t> (v) < n ? local_at[v] : -1;
-    if (local < 0 || boundary_slot[local] >= 0) {
-      system.message = "a boundary point is missing from the patch or repeated in the loop";
-      return system;
-    }
-    boundary_slot[local] = static_cast<pcl::index_t> (k);
-  }
-
-  system.unknown_of.assign (m, -1);
-  for (std::size_t i = 0; i < m; ++i)
-    if (boundary_slot[i] < 0) {
-      system.unknown_of[i] = static_cast<pcl::index_t> (system.interior.size ());
-      system.interior.push_back (static_cast<pcl::index_t> (i));
-    }
-  const std::size_t unknowns = system.interior.size ();
-
-  // Rows: u_i - sum lambda_ij u_j (interior j) = sum lambda_ij u_j (boundary j), the
-  // weights restricted to the patch and renormalised to sum to one.
-  // Filled row by row in place (no triplet list: 16 bytes per entry, 40 MB on the
-  // largest patch of a million points, alive while another patch factorizes).
-  system.matrix.resize (static_cast<Eigen::Index> (unknowns), static_cast<Eigen::Index> (unknowns));
-  system.matrix.reserve (static_cast<Eigen::Index> (unknowns * 8));
-  std::vector<std::pair<pcl::index_t, double>> row_entries;
-  system.rhs = Eigen::MatrixX2d::Zero (static_cast<Eigen::Index> (unknowns), 2);
-  std::vector<char> touches_boundary (unknowns, 0); // a weight on a boundary point
-  std::vector<pcl::index_t> row_points, inside_candidates;
-  std::vector<double> row_weights;
-  Points2 local_ring;
-  std::vector<int> ring;
-  for (std::size_t row = 0; row < unknowns; ++row) {
-    const pcl::index_t local = system.interior[row];
-    const pcl::index_t v = patch_points[local];
-    // This point's weights, restricted to the patch.
-    row_points.clear ();
-    row_weights.clear ();
-    bool reaches_out = false;
-    for (auto k = weights.neighbours.offsets[v]; k < weights.neighbours.offsets[v + 1]; ++k) {
-      const pcl::index_t w = weights.neighbours.adjacency[k];
-      if (inPatch (w)) {
-        row_points.push_back (w);
-        row_weights.push_back (weights.values[k]);
-      }
-      else
-        reaches_out = true;
-    }
-    if (reaches_out && rings && rings->points && rings->candidates && rings->normals) {
-      // The point's own ring among its candidates inside the patch.
-      inside_candidates.clear ();
-      for (const pcl::index_t* w = rings->candidates->begin (v); w != rings->candidates->end (v); ++w)
-        if (inPatch (*w))
-          inside_candidates.push_back (*w);
-      localCoordinates (*rings->points, v, inside_candidates.data (),
-                        inside_candidates.data () + inside_candidates.size (),
-                        (*rings->normals)[v].cast<double> (), rings->weights.plane, local_ring);
-      delaunayRing (local_ring, ring);
-      Points2 ordered_ring;
-      for (int r : ring)
-        ordered_ring.push_back (local_ring[r]);
-      std::vector<double> lambda;
-      const bool mean_value = rings->weights.type == WeightType::MeanValue;
-      if ((mean_value || rings->weights.type == WeightType::ShapePreserving) &&
-          (mean_value ? meanValueWeights (ordered_ring, lambda)
-                      : shapePreservingWeights (ordered_ring, lambda))) {
-        row_points.clear ();
-        for (int r : ring)
-          row_points.push_back (inside_candidates[r]);
-        row_weights = std::move (lambda);
-        ++system.num_rerung;
-      }
-    }
-    double inside = 0.0;
-    for (double lambda : row_weights)
-      inside += lambda;
-    if (!(inside > 0.0)) {
-      system.message = "an interior point of the patch has no neighbour inside the patch "
-                       "(increase the number of neighbours k or the radius)";
-      return system;
-    }
-    row_entries.clear ();
-    row_entries.emplace_back (static_cast<pcl::index_t> (row), 1.0);
-    for (std::size_t j = 0; j < row_points.size (); ++j) {
-      const double lambda = row_weights[j] / inside;
-      const pcl::index_t w = local_at[row_points[j]];
-      if (lambda == 0.0 || w == local)
-        continue;
-      if (boundary_slot[w] >= 0) {
-        system.rhs.row (row) += lambda * boundary_uv[boundary_slot[w]].transpose ();
-        touches_boundary[row] = 1;
-      }
-      else
-        row_entries.emplace_back (system.unknown_of[w], -lambda);
-    }
-    // Columns ascending, repeated ones summed (as setFromTriplets would).
-    std::stable_sort (row_entries.begin (), row_entries.end (),
-               [] (const auto& a, const auto& b) { return a.first < b.first; });
-    std::size_t kept = 0;
-    for (std::size_t j = 0; j < row_entries.size (); ++j)
-      if (kept > 0 && row_entries[j].first == row_entries[kept - 1].first)
-        row_entries[kept - 1].second += row_entries[j].second;
-      else
-        row_entries[kept++] = row_entries[j];
-    system.matrix.startVec (static_cast<Eigen::Index> (row));
-    for (std::size_t j = 0; j < kept; ++j)
-      system.matrix.insertBack (static_cast<Eigen::Index> (row), row_entries[j].first) =
-          row_entries[j].second;
-  }
-  system.matrix.finalize ();
-
-  // Non-singular iff every interior point reaches the boundary along directed
-  // weight edges. Search backwards from the rows with a boundary weight; column j
-  // of the matrix lists the rows that depend on unknown j.
-  // (The column lists hold row numbers only: a third of a column-major copy.)
-  static_assert (std::is_same<Eigen::SparseMatrix<double>::StorageIndex, pcl::index_t>::value,
-                 "the matrix's indices read as a graph");
-  const CsrGraph dependents = transposeGraph (unknowns, system.matrix.outerIndexPtr (),
-                                              system.matrix.innerIndexPtr ());
-  std::vector<char> reaches (touches_boundary);
-  std::vector<pcl::index_t> stack;
-  for (std::size_t row = 0; row < unknowns; ++row)
-    if (reaches[row])
-      stack.push_back (static_cast<pcl::index_t> (row));
-  while (!stack.empty ()) {
-    const pcl::index_t j = stack.back ();
-    stack.pop_back ();
-    for (const pcl::index_t* row = dependents.begin (j); row != dependents.end (j); ++row)
-      if (!reaches[*row]) {
-        reaches[*row] = 1;
-        stack.push_back (*row);
-      }
-  }
-  std::size_t cut_off = 0;
-  for (char r : reaches)
-    cut_off += !r;
-  if (cut_off > 0) {
-    system.message = std::to_string (cut_off) +
-                     " interior point(s) of the patch have no path to its boundary (the "
-                     "patch is disconnected; increase k or the radius)";
-    return system;
-  }
-  system.success = true;
-  return system;
+  return MeshlessSystemBuilder (weights, patch_points, boundary_loop, boundary_uv, rings).build ();
 }
+
+namespace {
+
+/** One parameter point per patch point, the boundary's placed, the interior's
+  * zero. Placed after the solve: the map from point to patch position would
+  * otherwise live through the factorization. */
+void
+placeBoundary (const std::vector<pcl::index_t>& patch_points,
+               const std::vector<pcl::index_t>& boundary_loop,
+               const Points2& boundary_uv,
+               Points2& uv)
+{
+  const std::size_t m = patch_points.size ();
+  uv.assign (m, Eigen::Vector2d::Zero ());
+  std::unordered_map<pcl::index_t, pcl::index_t> local_of;
+  for (std::size_t i = 0; i < m; ++i)
+    local_of.emplace (patch_points[i], static_cast<pcl::index_t> (i));
+  for (std::size_t k = 0; k < boundary_loop.size (); ++k)
+    uv[local_of.at (boundary_loop[k])] = boundary_uv[k];
+}
+
+/** The direct solve. The matrix is I - W with W's rows convex: diagonally dominant
+  * by rows, so elimination on the diagonal is stable and the rows need no pivoting.
+  * Ordered symmetrically by AMD on the pattern of A + A^T (SparseLU's own orderings
+  * permute columns only, which moves the diagonal off and makes it pivot), the
+  * factors fill far less and are made faster, with the same residual. The factors
+  * are computed in single precision and the solution refined in double (see
+  * factorAndRefine): they set the peak memory of large clouds.
+  * \return false (result's message set) if the factorization failed. */
+bool
+solveDirect (const MeshlessSystem& system,
+             const SolveOptions& options,
+             Eigen::MatrixX2d& solution,
+             Parameterization& result)
+{
+  const auto unknowns = static_cast<std::size_t> (system.matrix.rows ());
+  Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
+  fillReducingOrder (system.matrix, order);
+  const double target = std::max (options.tolerance, 1e-8);
+  std::unique_lock<std::mutex> exclusive;
+  if (options.factorization_lock && unknowns >= options.exclusive_from)
+    exclusive = std::unique_lock<std::mutex> (*options.factorization_lock);
+  std::string problem;
+  if (!factorAndRefine<float> (system, order, target, solution, result.iterations, problem)) {
+    // A matrix too ill-conditioned for single precision (never seen on real
+    // clouds) stalls the refinement or is singular when rounded: double factors.
+    problem.clear ();
+    result.double_precision_factors = true;
+    factorAndRefine<double> (system, order, target, solution, result.iterations, problem);
+  }
+  if (!problem.empty ()) {
+    result.message = problem;
+    return false;
+  }
+  return true;
+}
+
+/** The iterative solve: BiCGSTAB preconditioned by an incomplete LU, one
+  * coordinate at a time. \return false (result's message set) if it fails. */
+bool
+solveIterative (const MeshlessSystem& system,
+                const SolveOptions& options,
+                Eigen::MatrixX2d& solution,
+                Parameterization& result)
+{
+  Eigen::SparseMatrix<double> column_major = system.matrix;
+  Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::IncompleteLUT<double>> bicg;
+  bicg.setTolerance (options.tolerance);
+  bicg.setMaxIterations (options.max_iterations);
+  bicg.compute (column_major);
+  if (bicg.info () != Eigen::Success) {
+    result.message = "the incomplete LU preconditioner could not be computed";
+    return false;
+  }
+  solution.resize (system.matrix.rows (), 2);
+  for (int c = 0; c < 2; ++c) {
+    solution.col (c) = bicg.solve (system.rhs.col (c));
+    result.iterations = std::max (result.iterations, static_cast<int> (bicg.iterations ()));
+    if (bicg.info () != Eigen::Success) {
+      result.message = "BiCGSTAB did not converge within " +
+                       std::to_string (options.max_iterations) + " iterations";
+      return false;
+    }
+  }
+  return true;
+}
+
+} // namespace
 
 Parameterization
 solveMeshlessSystem (const MeshlessSystem& system,
@@ -404,76 +610,18 @@ solveMeshlessSystem (const MeshlessSystem& system,
     result.message = "the system was not built: " + system.message;
     return result;
   }
-  // The boundary's parameter points, placed after the solve: the map from point to
-  // patch position would otherwise live through the factorization.
-  const auto placeBoundary = [&] () {
-    const std::size_t m = patch_points.size ();
-    result.uv.assign (m, Eigen::Vector2d::Zero ());
-    std::unordered_map<pcl::index_t, pcl::index_t> local_of;
-    for (std::size_t i = 0; i < m; ++i)
-      local_of.emplace (patch_points[i], static_cast<pcl::index_t> (i));
-    for (std::size_t k = 0; k < boundary_loop.size (); ++k)
-      result.uv[local_of.at (boundary_loop[k])] = boundary_uv[k];
-  };
-
   const Eigen::Index unknowns = system.matrix.rows ();
   if (unknowns == 0) {
-    placeBoundary ();
+    placeBoundary (patch_points, boundary_loop, boundary_uv, result.uv);
     result.success = true;
     return result;
   }
   Eigen::MatrixX2d solution;
-  if (options.solver == SparseSolver::SparseLU) {
-    // The matrix is I - W with W's rows convex: diagonally dominant by rows, so
-    // elimination on the diagonal is stable and the rows need no pivoting. Ordered
-    // symmetrically by AMD on the pattern of A + A^T (SparseLU's own orderings
-    // permute columns only, which moves the diagonal off and makes it pivot), the
-    // factors fill far less: on a 205,102-unknown patch of the 1M armadillo, L + U
-    // 27.7M -> 11.3M nonzeros, 1.58 -> 0.54 s, with the same residual (3e-15).
-    // The factors are computed in single precision and the solution refined in
-    // double (see factorAndRefine): they set the peak memory of large clouds.
-    Eigen::PermutationMatrix<Eigen::Dynamic, Eigen::Dynamic, int> order;
-    fillReducingOrder (system.matrix, order);
-    const double target = std::max (options.tolerance, 1e-8);
-    std::unique_lock<std::mutex> exclusive;
-    if (options.factorization_lock && static_cast<std::size_t> (unknowns) >= options.exclusive_from)
-      exclusive = std::unique_lock<std::mutex> (*options.factorization_lock);
-    std::string problem;
-    if (!factorAndRefine<float> (system, order, target, solution, result.iterations,
-                                 problem)) {
-      // A matrix too ill-conditioned for single precision (never seen on real
-      // clouds) stalls the refinement or is singular when rounded: double factors.
-      problem.clear ();
-      result.double_precision_factors = true;
-      factorAndRefine<double> (system, order, target, solution, result.iterations,
-                               problem);
-    }
-    if (!problem.empty ()) {
-      result.message = problem;
-      return result;
-    }
-  }
-  else {
-    Eigen::SparseMatrix<double> column_major = system.matrix;
-    Eigen::BiCGSTAB<Eigen::SparseMatrix<double>, Eigen::IncompleteLUT<double>> bicg;
-    bicg.setTolerance (options.tolerance);
-    bicg.setMaxIterations (options.max_iterations);
-    bicg.compute (column_major);
-    if (bicg.info () != Eigen::Success) {
-      result.message = "the incomplete LU preconditioner could not be computed";
-      return result;
-    }
-    solution.resize (unknowns, 2);
-    for (int c = 0; c < 2; ++c) {
-      solution.col (c) = bicg.solve (system.rhs.col (c));
-      result.iterations = std::max (result.iterations, static_cast<int> (bicg.iterations ()));
-      if (bicg.info () != Eigen::Success) {
-        result.message = "BiCGSTAB did not converge within " +
-                         std::to_string (options.max_iterations) + " iterations";
-        return result;
-      }
-    }
-  }
+  const bool solved = options.solver == SparseSolver::SparseLU
+                          ? solveDirect (system, options, solution, result)
+                          : solveIterative (system, options, solution, result);
+  if (!solved)
+    return result;
   if (!solution.allFinite ()) {
     result.message = "the parameterization has non-finite parameter points (singular system)";
     return result;
@@ -485,7 +633,7 @@ solveMeshlessSystem (const MeshlessSystem& system,
                      " is too large (ill-conditioned system)";
     return result;
   }
-  placeBoundary ();
+  placeBoundary (patch_points, boundary_loop, boundary_uv, result.uv);
   for (Eigen::Index row = 0; row < unknowns; ++row)
     result.uv[system.interior[row]] = solution.row (row).transpose ();
   result.success = true;

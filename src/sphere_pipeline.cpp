@@ -78,60 +78,103 @@ nextPolyhedron (BasePolyhedron polyhedron)
   return BasePolyhedron::Tetrahedron;
 }
 
-} // namespace
-
-SphereTriangulation
-triangulateSphere (const Points3& points,
-                   const CsrGraph& neighbourhoods,
-                   const SpherePipelineOptions& options)
+/** The steps of triangulateSphere over one cloud: the surface graphs once, then
+  * base meshes in turn until one gives a closed triangulation. */
+class SpherePipeline
 {
-  SphereTriangulation result;
-  SpherePipelineStats& stats = result.stats;
-  const std::size_t n = points.size ();
-  StageClock clock (options.progress);
-  auto cancelled = [&] () {
-    result.message = "cancelled by the progress callback";
-    return result;
-  };
-  if (n < 4) {
-    result.message = "a closed triangulation needs at least four points";
-    return result;
-  }
+public:
+  SpherePipeline (const Points3& points,
+                  const CsrGraph& neighbourhoods,
+                  const SpherePipelineOptions& options)
+  : points_ (points)
+  , neighbourhoods_ (neighbourhoods)
+  , options_ (options)
+  , n_ (points.size ())
+  , clock_ (options.progress)
+  {}
 
-  const double stage_fraction[] = {0.05, 0.15, 0.2}; // graph, rings, weights
-  int stage = 0;
-  SurfaceGraphs surface =
-      buildSurfaceGraphs (points, neighbourhoods, options.weights,
-                          [&] (const std::string& name, const std::string& detail) {
-                            return clock.done (name, stage_fraction[stage++], detail);
-                          },
-                          options.separate_thin_sheets);
-  if (!surface.success) {
-    result.message = surface.message;
-    return result;
-  }
-  if (options.separate_thin_sheets && surface.sheet_edges_dropped == 0) {
-    result.message = "no edges across thin parts to drop (or dropping them would "
-                     "disconnect the graph)";
-    return result;
-  }
-  const CsrGraph& graph = surface.graph;
-  const OrderedNeighbourhoods& ordered = surface.ordered;
-  const CsrGraph& mutual = surface.mutual;
-  const Weights& weights = surface.weights;
-  stats.normals_flipped = surface.normals_flipped;
-  stats.thin_part_edges =
-      options.separate_thin_sheets ? surface.sheet_edges_dropped : surface.sheet_edges_droppable;
-  stats.weight_fallbacks = weights.num_fallbacks;
-
-  // Corners of D only where the ring surrounds the point and the mutual graph
-  // offers several ways out: a sharp tip (all neighbours on one side) would leave
-  // no room for three or more paths in the right cyclic order. And only in the
-  // largest component of the mutual graph, which the paths are routed in (thin
-  // parts whose rings disagree with the rest may form components of their own).
-  std::vector<char> corner_eligible (n, 0);
-  std::size_t eligible_count = 0;
+  SphereTriangulation
+  run ()
   {
+    if (n_ < 4) {
+      result_.message = "a closed triangulation needs at least four points";
+      return std::move (result_);
+    }
+    if (!buildGraphs ())
+      return std::move (result_);
+    findCornerCandidates ();
+    const bool user_base = !options_.user_base_mesh.faces.empty ();
+    if (user_base) {
+      const std::string problem = validateBaseMesh (options_.user_base_mesh, n_);
+      if (!problem.empty ()) {
+        result_.message = "invalid base mesh: " + problem;
+        return std::move (result_);
+      }
+    }
+    const int attempts = user_base ? 1 : std::max (1, options_.max_base_attempts);
+    const int first = user_base ? 0 : std::max (0, options_.first_attempt);
+    for (int attempt = first; attempt < first + attempts; ++attempt) {
+      result_.stats.base_attempts = static_cast<std::size_t> (attempt - first + 1);
+      result_.stats.base_attempt = attempt;
+      if (tryBaseMesh (attempt) == Attempt::Finished)
+        return std::move (result_);
+    }
+    result_.message = "no base mesh worked after " + std::to_string (attempts) +
+                      " attempt(s) (is the cloud sphere-like? a handle or a boundary leaves no "
+                      "room for the paths; so may parts thinner than the point spacing); the last "
+                      "problem: " + last_problem_;
+    return std::move (result_);
+  }
+
+private:
+  /** Finished: the run ends (a triangulation, or cancelled). TryNext: this base
+    * mesh failed for last_problem_. */
+  enum class Attempt
+  {
+    Finished,
+    TryNext
+  };
+
+  /** The symmetric graph, the rings, the mutual graph and the weights.
+    * \return false (the message set) if they cannot be built. */
+  bool
+  buildGraphs ()
+  {
+    const double stage_fraction[] = {0.05, 0.15, 0.2}; // graph, rings, weights
+    int stage = 0;
+    surface_ = buildSurfaceGraphs (points_, neighbourhoods_, options_.weights,
+                                   [&] (const std::string& name, const std::string& detail) {
+                                     return clock_.done (name, stage_fraction[stage++], detail);
+                                   },
+                                   options_.separate_thin_sheets);
+    if (!surface_.success) {
+      result_.message = surface_.message;
+      return false;
+    }
+    if (options_.separate_thin_sheets && surface_.sheet_edges_dropped == 0) {
+      result_.message = "no edges across thin parts to drop (or dropping them would "
+                        "disconnect the graph)";
+      return false;
+    }
+    SpherePipelineStats& stats = result_.stats;
+    stats.normals_flipped = surface_.normals_flipped;
+    stats.thin_part_edges = options_.separate_thin_sheets ? surface_.sheet_edges_dropped
+                                                          : surface_.sheet_edges_droppable;
+    stats.weight_fallbacks = surface_.weights.num_fallbacks;
+    return true;
+  }
+
+  /** Corners of D only where the ring surrounds the point and the mutual graph
+    * offers several ways out: a sharp tip (all neighbours on one side) would leave
+    * no room for three or more paths in the right cyclic order. And only in the
+    * largest component of the mutual graph, which the paths are routed in (thin
+    * parts whose rings disagree with the rest may form components of their own). */
+  void
+  findCornerCandidates ()
+  {
+    const CsrGraph& mutual = surface_.mutual;
+    corner_eligible_.assign (n_, 0);
+    std::size_t eligible_count = 0;
     std::vector<pcl::index_t> mutual_component;
     const std::size_t mutual_components = connectedComponents (mutual, mutual_component);
     std::vector<std::size_t> mutual_size (mutual_components, 0);
@@ -139,56 +182,66 @@ triangulateSphere (const Points3& points,
       ++mutual_size[c];
     const auto main_component = static_cast<pcl::index_t> (
         std::max_element (mutual_size.begin (), mutual_size.end ()) - mutual_size.begin ());
-    for (std::size_t v = 0; v < n; ++v) {
-      corner_eligible[v] = ordered.largest_gap[v] < 0.9 * 3.14159265358979 &&
-                           mutual.degree (v) >= 4 && mutual_component[v] == main_component;
-      eligible_count += corner_eligible[v];
+    for (std::size_t v = 0; v < n_; ++v) {
+      corner_eligible_[v] = surface_.ordered.largest_gap[v] < 0.9 * 3.14159265358979 &&
+                            mutual.degree (v) >= 4 && mutual_component[v] == main_component;
+      eligible_count += corner_eligible_[v];
     }
+    if (eligible_count < 4)
+      corner_eligible_.clear (); // a tiny or degenerate cloud: let any point be a corner
   }
-  if (eligible_count < 4)
-    corner_eligible.clear (); // a tiny or degenerate cloud: let any point be a corner
 
-  const bool user_base = !options.user_base_mesh.faces.empty ();
-  if (user_base) {
-    const std::string problem = validateBaseMesh (options.user_base_mesh, n);
-    if (!problem.empty ()) {
-      result.message = "invalid base mesh: " + problem;
-      return result;
-    }
+  /** D of attempt number `attempt`: the user's, or a rotated polyhedron. Every
+    * second attempt tries the next polyhedron: other corners, and patches of
+    * another size, fail for other reasons than a mere rotation. */
+  BaseMesh
+  baseMesh (int attempt) const
+  {
+    if (!options_.user_base_mesh.faces.empty ())
+      return options_.user_base_mesh;
+    const BasePolyhedron first_polyhedron = polyhedronForSize (options_.polyhedron, n_);
+    const BasePolyhedron polyhedron = options_.alternate_polyhedra && attempt % 2 == 1
+                                          ? nextPolyhedron (first_polyhedron)
+                                          : first_polyhedron;
+    const int rotation = options_.alternate_polyhedra ? attempt / 2 : attempt;
+    return polyhedronBaseMesh (points_, polyhedron, attemptRotation (rotation), corner_eligible_,
+                               options_.corners);
   }
-  const int attempts = user_base ? 1 : std::max (1, options.max_base_attempts);
-  std::string last_problem;
-  const int first = user_base ? 0 : std::max (0, options.first_attempt);
-  const BasePolyhedron first_polyhedron = polyhedronForSize (options.polyhedron, n);
-  for (int attempt = first; attempt < first + attempts; ++attempt) {
-    stats.base_attempts = static_cast<std::size_t> (attempt - first + 1);
-    stats.base_attempt = attempt;
-    // Every second attempt tries the next polyhedron: other corners, and patches
-    // of another size, fail for other reasons than a mere rotation.
-    const BasePolyhedron polyhedron =
-        options.alternate_polyhedra && attempt % 2 == 1 ? nextPolyhedron (first_polyhedron)
-                                                        : first_polyhedron;
-    const int rotation = options.alternate_polyhedra ? attempt / 2 : attempt;
-    const BaseMesh base = user_base ? options.user_base_mesh
-                                    : polyhedronBaseMesh (points, polyhedron,
-                                                          attemptRotation (rotation),
-                                                          corner_eligible, options.corners);
+
+  /** Cut paths and patches for one base mesh, then the patches' triangulations. */
+  Attempt
+  tryBaseMesh (int attempt)
+  {
+    const BaseMesh base = baseMesh (attempt);
     if (base.faces.empty ()) {
-      last_problem = "two base mesh directions picked the same point";
-      continue;
+      last_problem_ = "two base mesh directions picked the same point";
+      return Attempt::TryNext;
     }
-    stats.base_faces = base.faces.size ();
-    const CutPaths paths = computeCutPaths (points, mutual, ordered.rings, base);
+    result_.stats.base_faces = base.faces.size ();
+    const CutPaths paths =
+        computeCutPaths (points_, surface_.mutual, surface_.ordered.rings, base);
     if (!paths.success) {
-      last_problem = paths.message;
-      continue;
+      last_problem_ = paths.message;
+      return Attempt::TryNext;
     }
-    const PatchSplit split = splitIntoPatches (points, mutual, graph,
-                                              weights.neighbours, base, paths);
+    const PatchSplit split = splitIntoPatches (points_, surface_.mutual, surface_.graph,
+                                              surface_.weights.neighbours, base, paths);
     if (!split.success) {
-      last_problem = split.message;
-      continue;
+      last_problem_ = split.message;
+      return Attempt::TryNext;
     }
+    recordSplit (base, paths, split);
+    if (!clock_.done ("split", 0.35,
+                      std::to_string (base.faces.size ()) + " patches, largest " +
+                          std::to_string (result_.stats.largest_patch) + " points"))
+      return cancelled ();
+    return triangulateAndMerge (split);
+  }
+
+  void
+  recordSplit (const BaseMesh& base, const CutPaths& paths, const PatchSplit& split)
+  {
+    SpherePipelineStats& stats = result_.stats;
     stats.path_points = 0;
     for (const auto& path : paths.paths)
       stats.path_points += path.size () - 2;
@@ -198,107 +251,158 @@ triangulateSphere (const Points3& points,
     stats.largest_patch = 0;
     for (const auto& patch : split.patches)
       stats.largest_patch = std::max (stats.largest_patch, patch.points.size ());
-    if (!clock.done ("split", 0.35,
-                     std::to_string (base.faces.size ()) + " patches, largest " +
-                         std::to_string (stats.largest_patch) + " points"))
-      return cancelled ();
-    // The rings and the mutual graph served the paths and the split, and the
-    // patches read G only next to the cuts; their solves set the peak memory of
-    // large clouds (armadillo_uniform_1m: the stage's peak 749 -> 682 MB without
-    // the rings and the mutual graph, -> 611 MB without G too). A next attempt, after a
-    // failed patch or merge, builds them again (stats.rebuilds; of the shared
-    // clouds armadillo_noisy_100k and bunny_rawscans_merged10 once each).
-    const CsrGraph cut_candidates = candidatesNearCuts (graph, weights.neighbours, split);
-    const auto release = [] (auto& array) { std::decay_t<decltype (array)> ().swap (array); };
-    release (surface.graph.offsets);
-    release (surface.graph.adjacency);
-    release (surface.mutual.offsets);
-    release (surface.mutual.adjacency);
-    release (surface.ordered.rings.offsets);
-    release (surface.ordered.rings.adjacency);
-    release (surface.ordered.largest_gap);
-    const auto rebuild = [&] () {
-      ++stats.rebuilds;
-      SurfaceGraphs again = buildSurfaceGraphs (points, neighbourhoods, options.weights, {},
-                                                options.separate_thin_sheets);
-      surface.graph = std::move (again.graph);
-      surface.mutual = std::move (again.mutual);
-      surface.ordered.rings = std::move (again.ordered.rings);
-      surface.ordered.largest_gap = std::move (again.ordered.largest_gap);
-    };
+  }
 
-    // What the graphs, the paths and the split freed goes back to the system first:
-    // the patches are solved on two threads, and the second one's allocations
-    // cannot reuse the first one's free memory (glibc keeps an arena per thread).
-    // armadillo_uniform_1m: the stage's peak 597 -> 590 MB.
-    releaseFreedMemory ();
+  /** One parameterization and triangulation per patch, then the merge; a failed
+    * patch or merge leads to the next base mesh. */
+  Attempt
+  triangulateAndMerge (const PatchSplit& split)
+  {
+    const CsrGraph cut_candidates =
+        candidatesNearCuts (surface_.graph, surface_.weights.neighbours, split);
+    makeRoomForPatchSolves ();
+    std::vector<PatchTriangulation> triangulated = triangulatePatches (split, cut_candidates);
+    std::vector<Triangles> patch_triangles;
+    if (!collectPatchTriangles (triangulated, patch_triangles)) {
+      rebuildGraphs ();
+      return Attempt::TryNext;
+    }
+    if (!clock_.done ("patches", 0.9,
+                      options_.patch_flips.enabled
+                          ? std::to_string (result_.stats.patch_flips) + " flips"
+                          : ""))
+      return cancelled ();
+
+    MergedTriangulation merged = mergePatches (patch_triangles, n_);
+    if (!merged.success) {
+      last_problem_ = merged.message;
+      rebuildGraphs ();
+      return Attempt::TryNext;
+    }
+    result_.stats.repair_flips = merged.num_repair_flips;
+    result_.triangles = std::move (merged.triangles);
+    result_.normals = surface_.ordered.normals;
+    if (!clock_.done ("merge", 1.0, std::to_string (merged.num_repair_flips) + " repair flips"))
+      return cancelled ();
+    result_.success = true;
+    return Attempt::Finished;
+  }
+
+  /** The patches solved in parallel, one large set of LU factors at a time
+    * (SolveOptions::factorization_lock), the largest patches first so that the
+    * small ones fill the waits: a lower peak memory on large clouds for a little
+    * time. */
+  std::vector<PatchTriangulation>
+  triangulatePatches (const PatchSplit& split, const CsrGraph& cut_candidates) const
+  {
     const std::size_t faces = split.patches.size ();
     std::vector<PatchTriangulation> triangulated (faces);
     PatchRingContext patch_rings;
-    patch_rings.points = &points;
+    patch_rings.points = &points_;
     patch_rings.candidates = &cut_candidates;
-    patch_rings.normals = &ordered.normals;
-    patch_rings.weights.type = options.weights;
-    // One large set of LU factors at a time (SolveOptions::factorization_lock), the
-    // largest patches first so that the small ones fill the waits. Measured on
-    // armadillo_uniform_1m with two threads: the stage's peak 866 -> 779 MB, its
-    // time 2.5 -> 2.9 s.
+    patch_rings.normals = &surface_.ordered.normals;
+    patch_rings.weights.type = options_.weights;
     std::mutex factorization;
-    SolveOptions solve = options.solve;
+    SolveOptions solve = options_.solve;
     solve.factorization_lock = &factorization;
     std::vector<std::size_t> largest_first (faces);
     std::iota (largest_first.begin (), largest_first.end (), std::size_t {0});
-    std::stable_sort (largest_first.begin (), largest_first.end (), [&] (std::size_t a, std::size_t b) {
-      return split.patches[a].points.size () > split.patches[b].points.size ();
-    });
+    std::stable_sort (largest_first.begin (), largest_first.end (),
+                      [&] (std::size_t a, std::size_t b) {
+                        return split.patches[a].points.size () > split.patches[b].points.size ();
+                      });
 #pragma omp parallel for schedule(dynamic, 1)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t> (faces); ++k) {
       const std::size_t f = largest_first[k];
-      triangulated[f] = triangulatePatch (points, weights, split.patches[f], solve, &patch_rings,
-                                          options.patch_flips);
+      triangulated[f] = triangulatePatch (points_, surface_.weights, split.patches[f], solve,
+                                          &patch_rings, options_.patch_flips);
       Points2 ().swap (triangulated[f].uv); // not needed here; memory at the peak
     }
-    std::vector<Triangles> patch_triangles;
-    bool all_patches = true;
+    return triangulated;
+  }
+
+  /** Moves the patches' triangles out and sums their statistics.
+    * \return false (last_problem_ set) at the first patch that failed. */
+  bool
+  collectPatchTriangles (std::vector<PatchTriangulation>& triangulated,
+                         std::vector<Triangles>& patch_triangles)
+  {
+    SpherePipelineStats& stats = result_.stats;
     stats.smallest_parameter_edge = 1.0;
     stats.patch_flips = 0;
     for (auto& patch : triangulated) {
       if (!patch.success) {
-        last_problem = patch.message;
-        all_patches = false;
-        break;
+        last_problem_ = patch.message;
+        return false;
       }
       stats.smallest_parameter_edge = std::min (stats.smallest_parameter_edge, patch.smallest_edge);
       stats.patch_flips += patch.flips;
       patch_triangles.push_back (std::move (patch.triangles));
     }
-    if (!all_patches) {
-      rebuild ();
-      continue;
-    }
-    if (!clock.done ("patches", 0.9,
-                     options.patch_flips.enabled ? std::to_string (stats.patch_flips) + " flips" : ""))
-      return cancelled ();
-
-    MergedTriangulation merged = mergePatches (patch_triangles, n);
-    if (!merged.success) {
-      last_problem = merged.message;
-      rebuild ();
-      continue;
-    }
-    stats.repair_flips = merged.num_repair_flips;
-    result.triangles = std::move (merged.triangles);
-    result.normals = ordered.normals;
-    if (!clock.done ("merge", 1.0, std::to_string (merged.num_repair_flips) + " repair flips"))
-      return cancelled ();
-    result.success = true;
-    return result;
+    return true;
   }
-  result.message = "no base mesh worked after " + std::to_string (attempts) +
-                   " attempt(s) (is the cloud sphere-like? a handle or a boundary leaves no "
-                   "room for the paths; so may parts thinner than the point spacing); the last "
-                   "problem: " + last_problem;
-  return result;
+
+  /** The rings and the mutual graph served the paths and the split, and the
+    * patches read G only next to the cuts (candidatesNearCuts): the patch solves
+    * set the peak memory of large clouds, so these go before them. What the graphs,
+    * the paths and the split freed then goes back to the system: the patches are
+    * solved on two threads, and the second one's allocations cannot reuse the first
+    * one's free memory (glibc keeps an arena per thread). */
+  void
+  makeRoomForPatchSolves ()
+  {
+    const auto release = [] (auto& array) { std::decay_t<decltype (array)> ().swap (array); };
+    release (surface_.graph.offsets);
+    release (surface_.graph.adjacency);
+    release (surface_.mutual.offsets);
+    release (surface_.mutual.adjacency);
+    release (surface_.ordered.rings.offsets);
+    release (surface_.ordered.rings.adjacency);
+    release (surface_.ordered.largest_gap);
+    releaseFreedMemory ();
+  }
+
+  /** What makeRoomForPatchSolves released, built again for a next attempt after a
+    * failed patch or merge (SpherePipelineStats::rebuilds). */
+  void
+  rebuildGraphs ()
+  {
+    ++result_.stats.rebuilds;
+    SurfaceGraphs again = buildSurfaceGraphs (points_, neighbourhoods_, options_.weights, {},
+                                              options_.separate_thin_sheets);
+    surface_.graph = std::move (again.graph);
+    surface_.mutual = std::move (again.mutual);
+    surface_.ordered.rings = std::move (again.ordered.rings);
+    surface_.ordered.largest_gap = std::move (again.ordered.largest_gap);
+  }
+
+  Attempt
+  cancelled ()
+  {
+    result_.message = "cancelled by the progress callback";
+    return Attempt::Finished;
+  }
+
+  const Points3& points_;
+  const CsrGraph& neighbourhoods_;
+  const SpherePipelineOptions& options_;
+  const std::size_t n_;
+  StageClock clock_;
+  SphereTriangulation result_;
+  SurfaceGraphs surface_;
+  /** Per point: whether it may be a corner of D (empty: any point may). */
+  std::vector<char> corner_eligible_;
+  std::string last_problem_;
+};
+
+} // namespace
+
+SphereTriangulation
+triangulateSphere (const Points3& points,
+                   const CsrGraph& neighbourhoods,
+                   const SpherePipelineOptions& options)
+{
+  return SpherePipeline (points, neighbourhoods, options).run ();
 }
 
 } // namespace meshless

@@ -107,8 +107,8 @@ enum class SparseSolver
 
 struct SolveOptions
 {
-  /** \brief Default: SparseSolver::SparseLU (measured faster and more robust on
-    * patches of clouds up to 1M points; see README). */
+  /** \brief Default: SparseSolver::SparseLU (direct; faster and more robust than
+    * the iterative solver on these systems). */
   SparseSolver solver = SparseSolver::SparseLU;
   /** \brief Relative residual the iterative solver must reach. Default 1e-10. */
   double tolerance = 1e-10;

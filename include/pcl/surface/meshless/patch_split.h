@@ -65,9 +65,8 @@ splitIntoPatches (const Points3& points,
   * read, the others empty: a point's candidates are needed only where its weight
   * neighbourhood reaches outside its patch (see PatchRingContext), next to a cut.
   * Rows are kept for every interior point with a weight neighbour that is not an
-  * interior point of the same patch (a superset of those). G's 54 MB on
-  * armadillo_uniform_1m then need not live through the patch solves, the peak of
-  * large clouds.
+  * interior point of the same patch (a superset of those). All of G then need not
+  * live through the patch solves, which set the peak memory of large clouds.
   * \param[in] candidates n rows
   * \param[in] dependencies each point's weight neighbourhood (Weights::neighbours)
   * \param[in] split the patches (splitIntoPatches) */
