@@ -340,8 +340,8 @@ Conductor::run ()
     return take ();
   }
   if (sphere_) {
-    RetryPolicy policy (points_, options_, finisher_, result_, clock_);
-    if (!policy.run (first_options_, kept_options_, neighbourhoods_.neighbours, search_)) {
+    RetryPolicy policy (points_, neighbourhoods_.neighbours, options_, finisher_, result_, clock_);
+    if (!policy.run (first_options_, kept_options_, search_)) {
       fail ("cancelled by the progress callback");
       return take ();
     }

@@ -203,10 +203,18 @@ MeshFinisher::finish (Triangles& triangles, const Normals& normals, FinishedMesh
 
 // ---------------------------------------------------------------------------
 
-RetryPolicy::RetryPolicy (const Points3& points, const ReconstructionOptions& options,
-                          MeshFinisher& finisher, CurrentResult& current, StageClock& clock)
-: points_ (points), options_ (options), finisher_ (finisher), current_ (current), clock_ (clock)
-{}
+RetryPolicy::RetryPolicy (const Points3& points, const CsrGraph& neighbours,
+                          const ReconstructionOptions& options, MeshFinisher& finisher,
+                          CurrentResult& current, StageClock& clock)
+: points_ (points)
+, options_ (options)
+, finisher_ (finisher)
+, current_ (current)
+, clock_ (clock)
+, neighbours_ (&neighbours)
+{
+  finisher_.useNeighbours (neighbours_);
+}
 
 bool
 RetryPolicy::currentTurnsBack ()
@@ -334,11 +342,8 @@ RetryPolicy::convexHullFallback ()
 
 bool
 RetryPolicy::run (const SpherePipelineOptions& first_options,
-                  const SpherePipelineOptions& kept_options, const CsrGraph& neighbours,
-                  const NeighbourSearch& search)
+                  const SpherePipelineOptions& kept_options, const NeighbourSearch& search)
 {
-  neighbours_ = &neighbours;
-  finisher_.useNeighbours (neighbours_);
   ReconstructionReport& report = current_.report;
   retrySequence (kept_options, report.stats);
   if (options_.base_faces.empty () && options_.radius == 0.0 && options_.base_retries > 0 &&

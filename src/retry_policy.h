@@ -104,15 +104,17 @@ private:
 class RetryPolicy
 {
 public:
-  RetryPolicy (const Points3& points, const ReconstructionOptions& options,
-               MeshFinisher& finisher, CurrentResult& current, StageClock& clock);
+  /** \param[in] neighbours those of the first run (the given k) */
+  RetryPolicy (const Points3& points, const CsrGraph& neighbours,
+               const ReconstructionOptions& options, MeshFinisher& finisher,
+               CurrentResult& current, StageClock& clock);
 
-  /** \brief All retries after a first run with `first_options` on `neighbours`
-    * (the given k); `kept_options` are the options the current result came from.
+  /** \brief All retries after a first run with `first_options`; `kept_options` are
+    * the options the current result came from.
     * \return false if the progress callback cancelled. */
   bool
   run (const SpherePipelineOptions& first_options, const SpherePipelineOptions& kept_options,
-       const CsrGraph& neighbours, const NeighbourSearch& search);
+       const NeighbourSearch& search);
 
   /** \brief Whether the current result turns back (records the figures in the
     * report). */
