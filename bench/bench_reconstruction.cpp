@@ -75,6 +75,7 @@ spherical (benchmark::State& state, const Cloud::ConstPtr& cloud)
     reconstruction.setInputCloud (cloud);
     // A measuring tool: a mesh with folds left is measured, not refused.
     reconstruction.setAllowSelfIntersections (true);
+    reconstruction.setReleaseFreedMemory (true); // as the CLI does, for its peak memory
     pcl::PolygonMesh mesh;
     reconstruction.reconstruct (mesh);
     if (!reconstruction.getReport ().success)

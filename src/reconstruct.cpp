@@ -225,6 +225,7 @@ Conductor::firstSphereRun ()
   SpherePipelineOptions options;
   options.weights = options_.weights;
   options.polyhedron = options_.polyhedron;
+  options.release_freed_memory = options_.release_freed_memory;
   options.progress = record_;
   // The swaps' angle pass starts inside the patches, where they are triangulated in
   // parallel (flipFlatEdgesInPatch); the swaps find most of it done.

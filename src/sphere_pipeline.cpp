@@ -2,6 +2,8 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/stage_clock.h"
+
 #include <pcl/surface/meshless/cut_paths.h>
 #include <pcl/surface/meshless/freed_memory.h>
 #include <pcl/surface/meshless/merge.h>
@@ -22,32 +24,6 @@ namespace pcl {
 namespace meshless {
 
 namespace {
-
-using Clock = std::chrono::steady_clock;
-
-/** Reports stages to the user's callback; remembers a cancellation. */
-class StageClock
-{
-public:
-  explicit StageClock (const ProgressCallback& callback) : callback_ (callback) {}
-
-  /** \return false if the user cancelled. */
-  bool
-  done (const std::string& stage, double fraction, const std::string& detail = "")
-  {
-    const auto now = Clock::now ();
-    const double seconds = std::chrono::duration<double> (now - start_).count ();
-    start_ = now;
-    if (callback_ && !callback_ ({stage, fraction, seconds, detail}))
-      cancelled_ = true;
-    return !cancelled_;
-  }
-
-private:
-  const ProgressCallback& callback_;
-  Clock::time_point start_ = Clock::now ();
-  bool cancelled_ = false;
-};
 
 /** Deterministic rotation number `attempt` (identity first). */
 Eigen::Matrix3d
@@ -359,7 +335,8 @@ private:
     release (surface_.ordered.rings.offsets);
     release (surface_.ordered.rings.adjacency);
     release (surface_.ordered.largest_gap);
-    releaseFreedMemory ();
+    if (options_.release_freed_memory)
+      releaseFreedMemory ();
   }
 
   /** What makeRoomForPatchSolves released, built again for a next attempt after a

@@ -36,10 +36,10 @@ struct SpherePipelineOptions
 {
   /** \brief Default: WeightType::MeanValue. */
   WeightType weights = WeightType::MeanValue;
-  /** \brief Base mesh D when no user base mesh is given. Default: the paper's
-    * tetrahedron. BasePolyhedron::BySize picks it from the number of points (see
-    * polyhedronForSize); the class's default. */
-  BasePolyhedron polyhedron = BasePolyhedron::Tetrahedron;
+  /** \brief Base mesh D when no user base mesh is given. Default:
+    * BasePolyhedron::BySize, the paper's tetrahedron, or more faces for very large
+    * clouds (see polyhedronForSize). */
+  BasePolyhedron polyhedron = BasePolyhedron::BySize;
   /** \brief A user base mesh (vertices are indices into the points); used instead
     * of `polyhedron` when it has faces. */
   BaseMesh user_base_mesh;
@@ -69,6 +69,9 @@ struct SpherePipelineOptions
     * other patches' solves (flipFlatEdgesInPatch). Default: off; the class turns it
     * on when its optimization runs the angle pass. */
   PatchFlipOptions patch_flips;
+  /** \brief Return freed memory to the system before the patch solves
+    * (releaseFreedMemory). Default false: the heap is the caller's. */
+  bool release_freed_memory = false;
   ProgressCallback progress;
 };
 
