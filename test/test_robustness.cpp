@@ -25,7 +25,6 @@
 #include <limits>
 #include <map>
 #include <mutex>
-#include <numeric>
 #include <random>
 #include <set>
 #include <sstream>
