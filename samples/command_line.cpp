@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <map>
+#include <sstream>
 
 namespace meshless_tools {
 
@@ -104,6 +105,29 @@ template bool
 CommandLine::read<double> (const char*, double&);
 template bool
 CommandLine::read<std::string> (const char*, std::string&);
+
+bool
+CommandLine::read3 (const char* flag, std::array<double, 3>& value)
+{
+  if (!has (flag))
+    return true;
+  std::array<double, 3> parsed{};
+  // parse_3x_arguments reads a missing third value out of its range, and takes
+  // words for 0 (atof): three numbers are checked here first.
+  std::string text = raw (flag);
+  std::replace (text.begin (), text.end (), ',', ' ');
+  std::istringstream numbers (text);
+  double number = 0.0;
+  int count = 0;
+  while (numbers >> number)
+    ++count;
+  if (count != 3 || !numbers.eof () ||
+      pcl::console::parse_3x_arguments (static_cast<int> (argv_.size ()), argv_.data (), flag,
+                                        parsed[0], parsed[1], parsed[2], false) < 0)
+    return reject (flag, "takes X,Y,Z");
+  value = parsed;
+  return true;
+}
 
 bool
 CommandLine::choose (const char* flag, const std::vector<std::string>& choices, int& chosen)

@@ -6,6 +6,7 @@
 #include <pcl/console/parse.h>
 #include <pcl/console/print.h>
 
+#include <array>
 #include <string>
 #include <vector>
 
@@ -50,6 +51,11 @@ public:
   template <typename T>
   bool
   read (const char* flag, T& value);
+
+  /** Reads "X,Y,Z" (pcl::console::parse_3x_arguments) when the flag was given; false
+    * (and error ()) when it is not three numbers. */
+  bool
+  read3 (const char* flag, std::array<double, 3>& value);
 
   /** The index in `choices` of the flag's value, left as it is when the flag is
     * absent; false (and error ()) when the value is none of them. */
