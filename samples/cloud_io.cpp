@@ -1,5 +1,8 @@
 #include "cloud_io.h"
 
+#include "file_checks.h"
+
+#include <pcl/common/io.h>
 #include <pcl/io/obj_io.h>
 #include <pcl/io/pcd_io.h>
 #include <pcl/io/ply_io.h>
@@ -32,6 +35,12 @@ pointsFromBlob (const pcl::PCLPointCloud2& blob, const std::string& path,
                    field->datatype != pcl::PCLPointField::FLOAT64))
       return path + ": needs float or double x, y and z properties";
   const std::size_t count = static_cast<std::size_t> (blob.width) * blob.height;
+  // The reader's blob is consistent; checked anyway, since the copy trusts it.
+  for (const auto* field : xyz)
+    if (field->offset + pcl::getFieldSize (field->datatype) > blob.point_step)
+      return path + ": a coordinate lies outside its point";
+  if (blob.data.size () / std::max<std::size_t> (blob.point_step, 1) < count)
+    return path + ": fewer data than points";
   cloud.resize (count);
   for (std::size_t i = 0; i < count; ++i) {
     const std::uint8_t* point = blob.data.data () + i * blob.point_step;
@@ -52,6 +61,31 @@ pointsFromBlob (const pcl::PCLPointCloud2& blob, const std::string& path,
   return "";
 }
 
+/** A PCD file, checked first (PCL's reader trusts its header). Float coordinates go
+  * through pcl::fromPCLPointCloud2, as pcl::io::loadPCDFile does; doubles are
+  * converted. */
+std::string
+loadPcd (const std::string& path, pcl::PointCloud<pcl::PointXYZ>& cloud)
+{
+  const std::string cause = checkPcdFile (path);
+  if (!cause.empty ())
+    return path + ": " + cause;
+  pcl::PCLPointCloud2 blob;
+  int version = 0;
+  if (pcl::PCDReader ().read (path, blob, cloud.sensor_origin_, cloud.sensor_orientation_,
+                              version) != 0)
+    return path + ": PCL's PCD reader refused the file";
+  int float_coordinates = 0;
+  for (const auto& field : blob.fields)
+    if ((field.name == "x" || field.name == "y" || field.name == "z") &&
+        field.datatype == pcl::PCLPointField::FLOAT32)
+      ++float_coordinates;
+  if (float_coordinates != 3)
+    return pointsFromBlob (blob, path, cloud);
+  pcl::fromPCLPointCloud2 (blob, cloud);
+  return "";
+}
+
 /** The next whitespace-separated token as a float. strtof, unlike operator>>, reads
   * the "nan" and "inf" that programs write for invalid points. */
 bool
@@ -63,6 +97,30 @@ parseFloat (std::istream& in, float& value)
   char* end = nullptr;
   value = std::strtof (token.c_str (), &end);
   return end == token.c_str () + token.size ();
+}
+
+/** x y z per line ('#' comments, blank lines skipped; further columns ignored). */
+std::string
+loadXyz (const std::string& path, pcl::PointCloud<pcl::PointXYZ>& cloud)
+{
+  std::ifstream in (path);
+  if (!in)
+    return "cannot open " + path;
+  std::string line;
+  std::size_t number = 0;
+  while (std::getline (in, line)) {
+    ++number;
+    if (line.empty () || line[0] == '#')
+      continue;
+    std::istringstream fields (line);
+    pcl::PointXYZ point;
+    for (int axis = 0; axis < 3; ++axis)
+      if (!parseFloat (fields, point.data[axis]))
+        return path + ":" + std::to_string (number) + ": expected three numbers";
+    cloud.push_back (point);
+  }
+  cloud.is_dense = false; // may hold nan/inf written as text
+  return "";
 }
 
 } // namespace
@@ -77,34 +135,23 @@ endsWith (const std::string& s, const std::string& suffix)
 std::string
 loadCloud (const std::string& path, pcl::PointCloud<pcl::PointXYZ>& cloud)
 {
-  if (endsWith (path, ".pcd"))
-    return pcl::io::loadPCDFile (path, cloud) == 0 ? ""
-                                                   : "cannot read PCD file " + path;
-  if (endsWith (path, ".ply")) {
-    pcl::PCLPointCloud2 blob;
-    if (pcl::io::loadPLYFile (path, blob) != 0)
-      return "cannot read PLY file " + path;
-    return pointsFromBlob (blob, path, cloud);
-  }
-  if (endsWith (path, ".xyz")) {
-    std::ifstream in (path);
-    if (!in)
-      return "cannot open " + path;
-    std::string line;
-    std::size_t number = 0;
-    while (std::getline (in, line)) {
-      ++number;
-      if (line.empty () || line[0] == '#')
-        continue;
-      std::istringstream fields (line);
-      pcl::PointXYZ point;
-      for (int axis = 0; axis < 3; ++axis)
-        if (!parseFloat (fields, point.data[axis]))
-          return path + ":" + std::to_string (number) + ": expected three numbers";
-      cloud.push_back (point);
+  // PCL's readers may still throw (out of memory): a cause, not a crash.
+  try {
+    if (endsWith (path, ".pcd"))
+      return loadPcd (path, cloud);
+    if (endsWith (path, ".ply")) {
+      const std::string cause = checkPlyFile (path);
+      if (!cause.empty ())
+        return path + ": " + cause;
+      pcl::PCLPointCloud2 blob;
+      if (pcl::io::loadPLYFile (path, blob) != 0)
+        return path + ": PCL's PLY reader refused the file";
+      return pointsFromBlob (blob, path, cloud);
     }
-    cloud.is_dense = false; // may hold nan/inf written as text
-    return "";
+    if (endsWith (path, ".xyz"))
+      return loadXyz (path, cloud);
+  } catch (const std::exception& e) {
+    return path + ": " + e.what ();
   }
   return "unknown input format (expected .pcd, .ply or .xyz): " + path;
 }
@@ -115,9 +162,16 @@ loadMesh (const std::string& path, pcl::meshless::Points3& vertices,
 {
   if (!endsWith (path, ".ply"))
     return "unknown mesh format (expected .ply): " + path;
+  const std::string cause = checkPlyFile (path);
+  if (!cause.empty ())
+    return path + ": " + cause;
   pcl::PolygonMesh mesh;
-  if (pcl::io::loadPLYFile (path, mesh) != 0)
-    return "cannot read PLY mesh " + path;
+  try {
+    if (pcl::io::loadPLYFile (path, mesh) != 0)
+      return path + ": PCL's PLY reader refused the mesh";
+  } catch (const std::exception& e) {
+    return path + ": " + e.what ();
+  }
   pcl::PointCloud<pcl::PointXYZ> cloud;
   const std::string error = pointsFromBlob (mesh.cloud, path, cloud);
   if (!error.empty ())

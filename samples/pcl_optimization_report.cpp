@@ -17,11 +17,13 @@
 // and the reference's sharp edges the mesh misses in red (under xvfb-run when
 // headless).
 #include "cloud_io.h"
+#include "command_line.h"
 #ifdef MESHLESS_WITH_RENDER
 #include "mesh_render.h"
 #endif
 
 #include <pcl/common/common.h>
+#include <pcl/console/time.h>
 #include <pcl/filters/filter.h>
 #include <pcl/surface/meshless/edge_swap.h>
 #include <pcl/surface/meshless/mesh_checks.h>
@@ -39,11 +41,12 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
-#include <tuple>
 #include <vector>
 
 namespace {
 
+using meshless_tools::CommandLine;
+using meshless_tools::fail;
 using meshless_tools::format;
 using meshless_tools::toTriangles;
 
@@ -51,7 +54,9 @@ using Cloud = pcl::PointCloud<pcl::PointXYZ>;
 using Clock = std::chrono::steady_clock;
 namespace meshless = pcl::meshless;
 
-/** The issue's clouds: each made of its reference's vertices, except the noisy one,
+constexpr const char* kTool = "pcl_optimization_report";
+
+/** The default clouds: each made of its reference's vertices, except the noisy one,
   * whose reference is the mesh it was sampled from. */
 const char* const default_clouds[] = {"fandisk_6475", "armadillo_igl", "bunny_igl", "horse",
                                       "armadillo_noisy_100k=armadillo_igl"};
@@ -85,13 +90,6 @@ usage (const char* program)
       "  -intersections 0|1  EdgeSwapOptions::remove_self_intersections\n",
       program, default_clouds[0], default_clouds[1], default_clouds[2], default_clouds[3],
       default_clouds[4]);
-}
-
-int
-fail (const std::string& reason)
-{
-  std::fprintf (stderr, "pcl_optimization_report: %s\n", reason.c_str ());
-  return 1;
 }
 
 double
@@ -402,8 +400,7 @@ picture (const pcl::PolygonMesh& mesh, const Cloud& cloud, const Metrics& metric
 }
 #endif
 
-int
-run (int argc, char** argv)
+struct ReportOptions
 {
   std::string data_dir = std::getenv ("MESHLESS_DATA_DIR") ? std::getenv ("MESHLESS_DATA_DIR")
                                                            : "../../shared/data";
@@ -411,213 +408,270 @@ run (int argc, char** argv)
   int repeat = 1, picture_size = 800;
   std::array<double, 3> view{0.5, 0.4, 1.0};
   bool timing_only = false;
-  meshless::MeshDistanceOptions distance_options;
-  // The maxima over a lattice on every triangle as well: sampled alone, they moved
-  // by 10% between two meshes that differ in a few triangles (fandisk 1.04e-2 ->
-  // 1.15e-2 while the dense maximum stayed at 1.23e-2).
-  distance_options.lattice_for_max = 6;
-  meshless::EdgeSwapOptions options;
+  meshless::MeshDistanceOptions distance;
+  meshless::EdgeSwapOptions swaps;
   std::vector<std::string> specs;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    auto value = [&] () -> std::string {
-      if (!has_value)
-        throw std::invalid_argument (arg + " needs a value");
-      return argv[++i];
-    };
-    try {
-      if (arg == "-h" || arg == "--help") {
-        usage (argv[0]);
-        return 0;
-      }
-      else if (arg == "-data")
-        data_dir = value ();
-      else if (arg == "-out")
-        out_dir = value ();
-      else if (arg == "-repeat")
-        repeat = std::max (0, std::stoi (value ()));
-      else if (arg == "-samples")
-        distance_options.samples = static_cast<std::size_t> (std::max (1L, std::stol (value ())));
-      else if (arg == "-size")
-        picture_size = std::clamp (std::stoi (value ()), 16, 4096);
-      else if (arg == "-timing-only")
-        timing_only = true;
-      else if (arg == "-view") {
-        const std::string v = value ();
-        if (std::sscanf (v.c_str (), "%lf,%lf,%lf", &view[0], &view[1], &view[2]) != 3)
-          return fail ("-view takes X,Y,Z");
-      }
-      else if (arg == "-cost") {
-        const std::string c = value ();
-        if (c == "abn")
-          options.cost = meshless::SwapCost::AngleBetweenNormals;
-        else if (c == "mean")
-          options.cost = meshless::SwapCost::IntegratedMeanCurvature;
-        else if (c == "squared")
-          options.cost = meshless::SwapCost::SquaredMeanCurvature;
-        else if (c == "total")
-          options.cost = meshless::SwapCost::TotalAbsoluteCurvature;
-        else
-          return fail ("-cost takes abn, mean, squared or total");
-      }
-      else if (arg == "-descent-min-dihedral")
-        options.descent_min_dihedral_deg = std::stod (value ());
-      else if (arg == "-noisy-median")
-        options.noisy_median_dihedral_deg = std::stod (value ());
-      else if (arg == "-longest")
-        options.descent_keeps_longest_edge = value () == "1";
-      else if (arg == "-angles")
-        options.improve_angles = value () == "1";
-      else if (arg == "-intersections")
-        options.remove_self_intersections = value () == "1";
-      else if (arg.size () > 1 && arg[0] == '-')
-        return fail ("unknown option " + arg + " (see -h)");
-      else
-        specs.push_back (arg);
-    } catch (const std::invalid_argument& e) {
-      return fail (std::string ("option ") + arg + ": " + e.what ());
-    } catch (const std::out_of_range&) {
-      return fail ("option " + arg + ": value out of range");
-    }
+};
+
+const std::vector<meshless_tools::Flag> kFlags = {
+    {"-h", false},          {"--help", false},        {"-data", true},
+    {"-out", true},         {"-repeat", true},        {"-samples", true},
+    {"-size", true},        {"-timing-only", false},  {"-view", true},
+    {"-cost", true},        {"-descent-min-dihedral", true},
+    {"-noisy-median", true}, {"-longest", true},     {"-angles", true},
+    {"-intersections", true}};
+
+/** The optimization options under test; the library's defaults where not given. */
+bool
+readSwapOptions (CommandLine& line, meshless::EdgeSwapOptions& swaps)
+{
+  const meshless::SwapCost costs[] = {
+      meshless::SwapCost::AngleBetweenNormals, meshless::SwapCost::IntegratedMeanCurvature,
+      meshless::SwapCost::SquaredMeanCurvature, meshless::SwapCost::TotalAbsoluteCurvature};
+  int cost = -1, longest = -1, angles = -1, intersections = -1;
+  if (!line.choose ("-cost", {"abn", "mean", "squared", "total"}, cost) ||
+      !line.read ("-descent-min-dihedral", swaps.descent_min_dihedral_deg) ||
+      !line.read ("-noisy-median", swaps.noisy_median_dihedral_deg) ||
+      !line.choose ("-longest", {"0", "1"}, longest) ||
+      !line.choose ("-angles", {"0", "1"}, angles) ||
+      !line.choose ("-intersections", {"0", "1"}, intersections))
+    return false;
+  if (cost >= 0)
+    swaps.cost = costs[cost];
+  if (longest >= 0)
+    swaps.descent_keeps_longest_edge = longest == 1;
+  if (angles >= 0)
+    swaps.improve_angles = angles == 1;
+  if (intersections >= 0)
+    swaps.remove_self_intersections = intersections == 1;
+  return true;
+}
+
+/** The options, or false with the reason in `error`. Counts out of range are
+  * clamped to the nearest sensible one. */
+bool
+parseOptions (int argc, char** argv, ReportOptions& options, std::string& error)
+{
+  CommandLine line (argc, argv, kFlags);
+  // The maxima over a lattice on every triangle as well: sampled maxima alone move
+  // between two meshes that differ in a few triangles.
+  options.distance.lattice_for_max = 6;
+  int samples = static_cast<int> (options.distance.samples);
+  if (!line.read ("-data", options.data_dir) || !line.read ("-out", options.out_dir) ||
+      !line.read ("-repeat", options.repeat) || !line.read ("-samples", samples) ||
+      !line.read ("-size", options.picture_size) || !line.read3 ("-view", options.view) ||
+      !readSwapOptions (line, options.swaps) || !line.error ().empty ()) {
+    error = line.error ();
+    return false;
   }
-  if (specs.empty ())
-    specs.assign (std::begin (default_clouds), std::end (default_clouds));
 #ifndef MESHLESS_WITH_RENDER
-  if (!out_dir.empty ())
-    return fail ("-out needs VTK's OpenGL rendering, which this build lacks");
+  if (error.empty () && !options.out_dir.empty ())
+    error = "-out needs VTK's OpenGL rendering, which this build lacks";
 #endif
-  if (!out_dir.empty ())
-    std::filesystem::create_directories (out_dir);
+  options.repeat = std::max (0, options.repeat);
+  options.distance.samples = static_cast<std::size_t> (std::max (1, samples));
+  options.picture_size = std::clamp (options.picture_size, 16, 4096);
+  options.timing_only = line.has ("-timing-only");
+  options.specs = line.positional ();
+  if (options.specs.empty ())
+    options.specs.assign (std::begin (default_clouds), std::end (default_clouds));
+  return error.empty ();
+}
 
-  std::printf ("optimization options: %s\n", describe (options).c_str ());
-  std::vector<Row> rows;
-  for (const std::string& spec : specs) {
-    // CLOUD[=REFERENCE]; bare names are looked up in the data directory.
-    const auto eq = spec.find ('=');
-    std::string cloud_path = spec.substr (0, eq), reference_path;
-    if (eq != std::string::npos)
-      reference_path = spec.substr (eq + 1);
-    const auto resolve = [&data_dir] (const std::string& s, const char* sub, const char* ext) {
-      return std::filesystem::exists (s) ? s : data_dir + "/" + sub + "/" + s + ext;
-    };
-    cloud_path = resolve (cloud_path, "clouds", ".pcd");
+/** CLOUD[=REFERENCE] as paths; bare names are looked up in the data directory, and
+  * the reference defaults to DATA/meshes/NAME.ply when there is one. */
+void
+resolve (const std::string& spec, const std::string& data_dir, std::string& cloud_path,
+         std::string& reference_path)
+{
+  const auto eq = spec.find ('=');
+  const auto find = [&data_dir] (const std::string& s, const char* sub, const char* ext) {
+    return std::filesystem::exists (s) ? s : data_dir + "/" + sub + "/" + s + ext;
+  };
+  cloud_path = find (spec.substr (0, eq), "clouds", ".pcd");
+  reference_path.clear ();
+  if (eq != std::string::npos)
+    reference_path = find (spec.substr (eq + 1), "meshes", ".ply");
+  else {
     const std::string stem = std::filesystem::path (cloud_path).stem ().string ();
-    if (reference_path.empty ()) {
-      const std::string guess = data_dir + "/meshes/" + stem + ".ply";
-      if (std::filesystem::exists (guess))
-        reference_path = guess;
-    }
-    else
-      reference_path = resolve (reference_path, "meshes", ".ply");
+    const std::string guess = data_dir + "/meshes/" + stem + ".ply";
+    if (std::filesystem::exists (guess))
+      reference_path = guess;
+  }
+}
 
-    auto loaded = pcl::make_shared<Cloud> ();
-    std::string error = meshless_tools::loadCloud (cloud_path, *loaded);
-    if (!error.empty ())
-      return fail (error);
-    auto cloud = pcl::make_shared<Cloud> ();
-    pcl::Indices kept;
-    pcl::removeNaNFromPointCloud (*loaded, *cloud, kept);
-    Row row;
-    row.name = stem;
-    row.points = cloud->size ();
-    // Original coordinates for the metrics (exact matches with the reference); the
-    // optimizer gets them centred, as the class gives them to it.
-    const meshless::Points3 vertices = meshless_tools::toPoints (*cloud);
-    meshless::Points3 centred;
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
-    for (const auto& v : vertices)
-      centroid += v;
-    centroid /= static_cast<double> (std::max<std::size_t> (1, vertices.size ()));
-    for (const auto& v : vertices)
-      centred.push_back (v - centroid);
+/** The whole reconstruction as a user runs it, `repeat` times: the optimization's
+  * share of the time (medians). */
+std::string
+timeRuns (const Cloud::ConstPtr& cloud, const ReportOptions& options, Row& row)
+{
+  std::vector<double> totals, optimizes, shares, cpu_totals, cpu_optimizes, cpu_shares;
+  for (int k = 0; k < options.repeat; ++k) {
+    pcl::PolygonMesh mesh;
+    pcl::SphericalMeshlessReport report;
+    double optimize = 0.0, cpu_total = 0.0, cpu_optimize = 0.0;
+    std::size_t stages = 0;
+    const double total = reconstruct (cloud, true, options.swaps, mesh, &optimize, &stages,
+                                      &report, &cpu_total, &cpu_optimize);
+    if (!report.success)
+      return row.name + ": the reconstruction failed: " + report.message;
+    totals.push_back (total);
+    optimizes.push_back (optimize);
+    shares.push_back (optimize / total);
+    cpu_totals.push_back (cpu_total);
+    cpu_optimizes.push_back (cpu_optimize);
+    cpu_shares.push_back (cpu_total > 0.0 ? cpu_optimize / cpu_total : 0.0);
+    row.timing.attempts = stages;
+    row.timing.retry = report.thin_sheet_retry || stages > 1;
+    row.timing.swaps = report.optimization.swaps;
+    row.timing.pairs = report.mesh.self_intersecting_pairs;
+    std::fprintf (stderr,
+                  "  run %d: %.3f s, optimize %.3f s (%zu stage%s); processor %.3f s, "
+                  "optimize %.3f s\n",
+                  k + 1, total, optimize, stages, stages == 1 ? "" : "s", cpu_total,
+                  cpu_optimize);
+  }
+  row.timing.total = median (totals);
+  row.timing.optimize = median (optimizes);
+  row.timing.share = median (shares);
+  row.timing.cpu_total = median (cpu_totals);
+  row.timing.cpu_optimize = median (cpu_optimizes);
+  row.timing.cpu_share = median (cpu_shares);
+  return "";
+}
 
-    meshless::Points3 reference_vertices;
-    meshless::Triangles reference_triangles;
-    if (!reference_path.empty () && !timing_only) {
-      error = meshless_tools::loadMesh (reference_path, reference_vertices, reference_triangles);
-      if (!error.empty ())
-        return fail (error);
-    }
-    const bool with_reference = !reference_triangles.empty ();
-    std::fprintf (stderr, "%s: %zu points, reference %s\n", stem.c_str (), cloud->size (),
-                  with_reference ? reference_path.c_str () : "none");
+/** A reference mesh for the metrics: its vertices and triangles, both empty when
+  * there is none. */
+struct Reference
+{
+  meshless::Points3 vertices;
+  meshless::Triangles triangles;
+};
 
-    // The whole reconstruction as a user runs it, for the share of the time.
-    std::vector<double> totals, optimizes, shares, cpu_totals, cpu_optimizes, cpu_shares;
-    for (int k = 0; k < repeat; ++k) {
-      pcl::PolygonMesh mesh;
-      pcl::SphericalMeshlessReport report;
-      double optimize = 0.0, cpu_total = 0.0, cpu_optimize = 0.0;
-      std::size_t stages = 0;
-      const double total = reconstruct (cloud, true, options, mesh, &optimize, &stages,
-                                        &report, &cpu_total, &cpu_optimize);
-      if (!report.success)
-        return fail (stem + ": the reconstruction failed: " + report.message);
-      totals.push_back (total);
-      optimizes.push_back (optimize);
-      shares.push_back (optimize / total);
-      cpu_totals.push_back (cpu_total);
-      cpu_optimizes.push_back (cpu_optimize);
-      cpu_shares.push_back (cpu_total > 0.0 ? cpu_optimize / cpu_total : 0.0);
-      row.timing.attempts = stages;
-      row.timing.retry = report.thin_sheet_retry || stages > 1;
-      row.timing.swaps = report.optimization.swaps;
-      row.timing.pairs = report.mesh.self_intersecting_pairs;
-      std::fprintf (stderr,
-                    "  run %d: %.3f s, optimize %.3f s (%zu stage%s); processor %.3f s, "
-                    "optimize %.3f s\n",
-                    k + 1, total, optimize, stages, stages == 1 ? "" : "s", cpu_total,
-                    cpu_optimize);
-    }
-    row.timing.total = median (totals);
-    row.timing.optimize = median (optimizes);
-    row.timing.share = median (shares);
-    row.timing.cpu_total = median (cpu_totals);
-    row.timing.cpu_optimize = median (cpu_optimizes);
-    row.timing.cpu_share = median (cpu_shares);
-
-    if (!timing_only) {
-      pcl::PolygonMesh raw;
-      pcl::SphericalMeshlessReport raw_report;
-      reconstruct (cloud, false, options, raw, nullptr, nullptr, &raw_report);
-      if (!raw_report.success)
-        return fail (stem + ": the raw reconstruction failed: " + raw_report.message);
-      row.before_retry = raw_report.thin_sheet_retry;
-      const meshless::Triangles before = toTriangles (raw);
-      meshless::Triangles after = before;
-      const auto start = Clock::now ();
-      row.optimization = meshless::optimizeBySwaps (centred, after, options);
-      row.optimize_alone = secondsSince (start);
-      if (!row.optimization.success)
-        return fail (stem + ": the optimization failed: " + row.optimization.message);
-      row.compared = true;
-      const auto* rv = with_reference ? &reference_vertices : nullptr;
-      const auto* rt = with_reference ? &reference_triangles : nullptr;
-      row.before = measure (vertices, before, rv, rt, distance_options);
-      row.after = measure (vertices, after, rv, rt, distance_options);
 #ifdef MESHLESS_WITH_RENDER
-      if (!out_dir.empty ()) {
-        if (!std::getenv ("DISPLAY"))
-          return fail ("-out needs a display (run under xvfb-run)");
-        pcl::PolygonMesh optimized = raw;
-        for (std::size_t t = 0; t < after.size (); ++t)
-          for (int k = 0; k < 3; ++k)
-            optimized.polygons[t].vertices[k] = static_cast<pcl::index_t> (after[t][k]);
-        const std::string base = (std::filesystem::path (out_dir) / stem).string ();
-        for (const auto& [mesh, metrics, suffix] :
-             {std::tuple (&raw, &row.before, "_before.png"),
-              std::tuple (&optimized, &row.after, "_after.png")}) {
-          error = picture (*mesh, *cloud, *metrics, reference_vertices, picture_size, view,
-                           base + suffix);
-          if (!error.empty ())
-            return fail (error);
-        }
-      }
+/** NAME_before.png and NAME_after.png: the raw and the optimized triangulation. */
+std::string
+pictures (const pcl::PolygonMesh& raw, const meshless::Triangles& after, const Cloud& cloud,
+          const Reference& reference, const ReportOptions& options, const Row& row)
+{
+  if (!std::getenv ("DISPLAY"))
+    return "-out needs a display (run under xvfb-run)";
+  pcl::PolygonMesh optimized = raw;
+  for (std::size_t t = 0; t < after.size (); ++t)
+    for (int k = 0; k < 3; ++k)
+      optimized.polygons[t].vertices[k] = static_cast<pcl::index_t> (after[t][k]);
+  const std::string base = (std::filesystem::path (options.out_dir) / row.name).string ();
+  const pcl::PolygonMesh* meshes[] = {&raw, &optimized};
+  const Metrics* metrics[] = {&row.before, &row.after};
+  const char* suffixes[] = {"_before.png", "_after.png"};
+  for (int m = 0; m < 2; ++m) {
+    const std::string error = picture (*meshes[m], cloud, *metrics[m], reference.vertices,
+                                       options.picture_size, options.view, base + suffixes[m]);
+    if (!error.empty ())
+      return error;
+  }
+  return "";
+}
 #endif
-    }
-    else
-      row.optimization.swaps = row.timing.swaps;
+
+/** The raw triangulation (optimization off), optimizeBySwaps on it alone, and the
+  * metrics of both. The optimizer gets the points centred, as the class gives them;
+  * the metrics the original coordinates (exact matches with the reference). */
+std::string
+compareRaw (const Cloud::ConstPtr& cloud, const Reference& reference,
+            const ReportOptions& options, Row& row)
+{
+  const meshless::Points3 vertices = meshless_tools::toPoints (*cloud);
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
+  for (const auto& v : vertices)
+    centroid += v;
+  centroid /= static_cast<double> (std::max<std::size_t> (1, vertices.size ()));
+  meshless::Points3 centred;
+  for (const auto& v : vertices)
+    centred.push_back (v - centroid);
+
+  pcl::PolygonMesh raw;
+  pcl::SphericalMeshlessReport raw_report;
+  reconstruct (cloud, false, options.swaps, raw, nullptr, nullptr, &raw_report);
+  if (!raw_report.success)
+    return row.name + ": the raw reconstruction failed: " + raw_report.message;
+  row.before_retry = raw_report.thin_sheet_retry;
+  const meshless::Triangles before = toTriangles (raw);
+  meshless::Triangles after = before;
+  pcl::console::TicToc timer;
+  timer.tic ();
+  row.optimization = meshless::optimizeBySwaps (centred, after, options.swaps);
+  row.optimize_alone = timer.toc () / 1000.0;
+  if (!row.optimization.success)
+    return row.name + ": the optimization failed: " + row.optimization.message;
+  row.compared = true;
+  const bool with_reference = !reference.triangles.empty ();
+  const auto* rv = with_reference ? &reference.vertices : nullptr;
+  const auto* rt = with_reference ? &reference.triangles : nullptr;
+  row.before = measure (vertices, before, rv, rt, options.distance);
+  row.after = measure (vertices, after, rv, rt, options.distance);
+#ifdef MESHLESS_WITH_RENDER
+  if (!options.out_dir.empty ())
+    return pictures (raw, after, *cloud, reference, options, row);
+#endif
+  return "";
+}
+
+/** One cloud's row: its timing runs and, unless -timing-only, the comparison. */
+std::string
+reportCloud (const std::string& spec, const ReportOptions& options, Row& row)
+{
+  std::string cloud_path, reference_path;
+  resolve (spec, options.data_dir, cloud_path, reference_path);
+  const meshless_tools::QuietPclLog quiet;
+  Cloud loaded;
+  std::string error = meshless_tools::loadCloud (cloud_path, loaded);
+  if (!error.empty ())
+    return error;
+  auto cloud = pcl::make_shared<Cloud> ();
+  pcl::Indices kept;
+  pcl::removeNaNFromPointCloud (loaded, *cloud, kept);
+  row.name = std::filesystem::path (cloud_path).stem ().string ();
+  row.points = cloud->size ();
+  Reference reference;
+  if (!reference_path.empty () && !options.timing_only) {
+    error = meshless_tools::loadMesh (reference_path, reference.vertices, reference.triangles);
+    if (!error.empty ())
+      return error;
+  }
+  std::fprintf (stderr, "%s: %zu points, reference %s\n", row.name.c_str (), cloud->size (),
+                reference.triangles.empty () ? "none" : reference_path.c_str ());
+  error = timeRuns (cloud, options, row);
+  if (!error.empty ())
+    return error;
+  if (options.timing_only) {
+    row.optimization.swaps = row.timing.swaps;
+    return "";
+  }
+  return compareRaw (cloud, reference, options, row);
+}
+
+int
+run (int argc, char** argv)
+{
+  if (pcl::console::find_switch (argc, argv, "-h") ||
+      pcl::console::find_switch (argc, argv, "--help")) {
+    usage (argv[0]);
+    return 0;
+  }
+  ReportOptions options;
+  std::string error;
+  if (!parseOptions (argc, argv, options, error))
+    return fail (kTool, error);
+  if (!options.out_dir.empty ())
+    std::filesystem::create_directories (options.out_dir);
+  std::printf ("optimization options: %s\n", describe (options.swaps).c_str ());
+  std::vector<Row> rows;
+  for (const std::string& spec : options.specs) {
+    Row row;
+    error = reportCloud (spec, options, row);
+    if (!error.empty ())
+      return fail (kTool, error);
     printCloud (row);
     rows.push_back (std::move (row));
   }
@@ -634,6 +688,6 @@ main (int argc, char** argv)
   try {
     return run (argc, argv);
   } catch (const std::exception& e) {
-    return fail (e.what ());
+    return fail (kTool, e.what ());
   }
 }

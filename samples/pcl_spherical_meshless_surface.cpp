@@ -4,30 +4,43 @@
 // cloud with pcl::SphericalMeshlessReconstruction. INPUT is .pcd, .ply or .xyz
 // (x y z per line), or -generate SHAPE[:N] for one of the project's own clouds.
 // OUTPUT is .ply (binary), .vtk or .obj. Prints stage timings and the triangle
-// count; exits 0 on success, otherwise 1 with a one-line reason on stderr.
+// count; exits 0 on success, otherwise 1 with a one-line reason on stderr that names
+// the option or the file to change.
 #include "cloud_io.h"
+#include "command_line.h"
 
+#include <pcl/console/time.h>
 #include <pcl/point_types.h>
 #include <pcl/surface/meshless/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include <omp.h>
 
-#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <string>
+#include <utility>
 
 namespace {
 
-using meshless_tools::loadCloud;
-using meshless_tools::saveMesh;
+using namespace pcl::console;
+using meshless_tools::CommandLine;
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
-using Clock = std::chrono::steady_clock;
+using Reconstruction = pcl::SphericalMeshlessReconstruction<pcl::PointXYZ>;
+
+constexpr const char* kTool = "pcl_spherical_meshless_surface";
+
+const std::vector<meshless_tools::Flag> kFlags = {
+    {"-h", false},        {"--help", false},   {"-generate", true}, {"-k", true},
+    {"-radius", true},    {"-weights", true},  {"-topology", true}, {"-optimize", true},
+    {"-base", true},      {"-retries", true},  {"-self_intersections", true},
+    {"-threads", true}};
 
 void
 usage (const char* program)
 {
-  std::printf (
+  print_info (
       "usage: %s INPUT OUTPUT [options]\n"
       "       %s -generate SHAPE[:N] OUTPUT [options]\n"
       "INPUT   .pcd, .ply or .xyz (x y z per line)\n"
@@ -48,14 +61,107 @@ usage (const char* program)
       "  -self_intersections fail|keep\n"
       "                       a mesh whose triangles still intersect after the repair:\n"
       "                       an error (default) or written with a warning\n"
-      "  -threads N           worker threads (default: all cores)\n",
+      "  -threads N           worker threads (default 0: all cores)\n",
       program, program);
 }
 
-double
-secondsSince (Clock::time_point start)
+/** The class's messages name its setters; a user of this tool needs the option. */
+std::string
+namingOptions (std::string message)
 {
-  return std::chrono::duration<double> (Clock::now () - start).count ();
+  static const std::pair<const char*, const char*> options[] = {
+      {"setTopology (Topology::Disc)", "-topology disc"},
+      {"setAllowSelfIntersections (true)", "-self_intersections keep"},
+      {"setOptimize (false)", "-optimize 0"},
+      {"setSearchRadius", "-radius"},
+      {"setNumberOfNeighbours", "-k"},
+      {"setBaseRetries", "-retries"},
+      {"setBasePolyhedron", "-base"},
+      {"setWeightType", "-weights"},
+      {"setNumberOfThreads", "-threads"}};
+  for (const auto& [setter, option] : options)
+    for (std::size_t at; (at = message.find (setter)) != std::string::npos;)
+      message.replace (at, std::strlen (setter), option);
+  return message;
+}
+
+/** The numeric options, checked here so that a wrong value is refused before a large
+  * cloud is read; the class checks them again. */
+bool
+readNumbers (CommandLine& line, Reconstruction& reconstruction, int& threads)
+{
+  int k = reconstruction.getNumberOfNeighbours ();
+  int retries = reconstruction.getBaseRetries ();
+  double radius = reconstruction.getSearchRadius ();
+  if (!line.read ("-k", k) || !line.read ("-radius", radius) ||
+      !line.read ("-retries", retries) || !line.read ("-threads", threads))
+    return false;
+  if (!std::isfinite (radius) || radius < 0.0)
+    return line.reject ("-radius", "must be finite and not negative");
+  if (radius == 0.0 && k < 3)
+    return line.reject ("-k", "must be at least 3");
+  if (retries < 0)
+    return line.reject ("-retries", "must be 0 or more");
+  if (threads < 0)
+    return line.reject ("-threads", "must be 0 (all cores) or more");
+  reconstruction.setNumberOfNeighbours (k);
+  reconstruction.setSearchRadius (radius);
+  reconstruction.setBaseRetries (retries);
+  return true;
+}
+
+/** The options that name a choice; each left at the class's default when absent. */
+bool
+readChoices (CommandLine& line, Reconstruction& reconstruction)
+{
+  using Weights = Reconstruction::WeightType;
+  using Base = Reconstruction::BasePolyhedron;
+  const Weights weights[] = {Weights::Uniform, Weights::ReciprocalDistance,
+                             Weights::ShapePreserving, Weights::MeanValue};
+  const Base bases[] = {Base::BySize, Base::Tetrahedron, Base::Octahedron, Base::Icosahedron};
+  int weight = -1, topology = -1, optimize = -1, base = -1, intersections = -1;
+  if (!line.choose ("-weights", {"uniform", "distance", "shape", "meanvalue"}, weight) ||
+      !line.choose ("-topology", {"sphere", "disc"}, topology) ||
+      !line.choose ("-optimize", {"0", "1"}, optimize) ||
+      !line.choose ("-base", {"auto", "tetrahedron", "octahedron", "icosahedron"}, base) ||
+      !line.choose ("-self_intersections", {"fail", "keep"}, intersections))
+    return false;
+  if (weight >= 0)
+    reconstruction.setWeightType (weights[weight]);
+  if (topology >= 0)
+    reconstruction.setTopology (topology == 1 ? Reconstruction::Topology::Disc
+                                              : Reconstruction::Topology::Sphere);
+  if (optimize >= 0)
+    reconstruction.setOptimize (optimize == 1);
+  if (base >= 0)
+    reconstruction.setBasePolyhedron (bases[base]);
+  if (intersections >= 0)
+    reconstruction.setAllowSelfIntersections (intersections == 1);
+  return true;
+}
+
+/** -generate SHAPE[:N]: one of the project's own clouds. */
+std::string
+generateCloud (const std::string& spec, Cloud& cloud)
+{
+  const auto colon = spec.find (':');
+  pcl::meshless::SyntheticShape shape;
+  if (!pcl::meshless::parseSyntheticShape (spec.substr (0, colon), shape))
+    return "-generate: unknown shape '" + spec.substr (0, colon) + "' (see -h)";
+  pcl::meshless::SyntheticCloudOptions options;
+  options.num_points = 20000;
+  if (colon != std::string::npos) {
+    // std::stoul would take "-1" as the largest count: digits only.
+    const std::string count = spec.substr (colon + 1);
+    if (count.empty () || count.size () > 9 ||
+        count.find_first_not_of ("0123456789") != std::string::npos)
+      return "-generate: the point count after ':' must be a whole number up to 100000000";
+    options.num_points = std::stoul (count);
+  }
+  for (const auto& p : pcl::meshless::sampleShape (shape, options))
+    cloud.push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
+                                    static_cast<float> (p.z ())));
+  return "";
 }
 
 /** The process's peak resident set so far in MB (Linux's VmHWM), or -1 where
@@ -75,11 +181,80 @@ peakResidentMegabytes ()
   return kilobytes < 0 ? -1 : kilobytes / 1024;
 }
 
-int
-fail (const std::string& reason)
+/** One line per stage. Printed at L_ALWAYS: the stages run while PCL's own log is
+  * silenced (QuietPclLog), which print_info's L_INFO would be too. */
+bool
+printStage (const pcl::meshless::ProgressReport& stage)
 {
-  std::fprintf (stderr, "pcl_spherical_meshless_surface: %s\n", reason.c_str ());
-  return 1;
+  const long peak = peakResidentMegabytes ();
+  print (L_ALWAYS, "  %-15s ", stage.stage.c_str ());
+  print_value ("%7.3f", stage.seconds);
+  print (L_ALWAYS, " s  %3.0f%%  %6s  %s\n", 100.0 * stage.fraction,
+         peak < 0 ? "" : (std::to_string (peak) + " MB").c_str (), stage.detail.c_str ());
+  std::fflush (stdout);
+  return true;
+}
+
+void
+printResult (const Reconstruction& reconstruction, const pcl::PolygonMesh& mesh,
+             double seconds)
+{
+  const pcl::SphericalMeshlessReport& report = reconstruction.getReport ();
+  print_info ("mesh: ");
+  print_value ("%zu", mesh.polygons.size ());
+  print_info (" triangles through ");
+  print_value ("%zu", report.num_points);
+  if (reconstruction.getTopology () == Reconstruction::Topology::Sphere)
+    print_info (" points (2n - 4 = %zu) in ", 2 * report.num_points - 4);
+  else
+    print_info (" points, %zu hole(s) kept open, in ", report.holes);
+  print_value ("%.2f", seconds);
+  print_info (" s\n");
+  if (reconstruction.getOptimize ())
+    print_info ("optimization: %zu swaps, cost %.6g -> %.6g\n", report.optimization.swaps,
+                report.optimization.cost_before, report.optimization.cost_after);
+  print_info ("check: %s\n", pcl::meshless::describe (report.mesh).c_str ());
+  if (report.num_duplicates > 0 || report.num_non_finite > 0)
+    print_info ("input: %zu duplicate point(s) merged, %zu non-finite point(s) skipped\n",
+                report.num_duplicates, report.num_non_finite);
+  if (report.mesh.self_intersecting_pairs > 0)
+    print_warn ("%s: %zu pair(s) of triangles intersect in local folds (noisy or thin "
+                "input); the mesh is %s and oriented all the same\n",
+                kTool, report.mesh.self_intersecting_pairs,
+                reconstruction.getTopology () == Reconstruction::Topology::Sphere
+                    ? "closed"
+                    : "manifold");
+}
+
+/** The input cloud, generated or read; an empty string or the reason it failed. */
+std::string
+inputCloud (const CommandLine& line, const std::string& generate, Cloud& cloud)
+{
+  TicToc timer;
+  timer.tic ();
+  if (!generate.empty ()) {
+    const std::string error = generateCloud (generate, cloud);
+    if (!error.empty ())
+      return error;
+    print_info ("input: generated %s, ", generate.c_str ());
+    print_value ("%zu", cloud.size ());
+    print_info (" points\n");
+    return cloud.empty () ? "the input cloud is empty" : "";
+  }
+  const std::string& path = line.positional ()[0];
+  std::string error;
+  {
+    const meshless_tools::QuietPclLog quiet;
+    error = meshless_tools::loadCloud (path, cloud);
+  }
+  if (!error.empty ())
+    return error;
+  print_info ("input: %s, ", path.c_str ());
+  print_value ("%zu", cloud.size ());
+  print_info (" points (");
+  print_value ("%.2f", timer.toc () / 1000.0);
+  print_info (" s to read)\n");
+  return cloud.empty () ? path + ": the input cloud is empty" : "";
 }
 
 } // namespace
@@ -87,173 +262,53 @@ fail (const std::string& reason)
 int
 main (int argc, char** argv)
 {
-  using Reconstruction = pcl::SphericalMeshlessReconstruction<pcl::PointXYZ>;
-  std::vector<std::string> positional;
-  std::string generate;
+  CommandLine line (argc, argv, kFlags);
+  if (line.error ().empty () && (line.has ("-h") || line.has ("--help"))) {
+    usage (argv[0]);
+    return 0;
+  }
   Reconstruction reconstruction;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    auto value = [&] () -> std::string { return has_value ? argv[++i] : ""; };
-    try {
-      if (arg == "-h" || arg == "--help") {
-        usage (argv[0]);
-        return 0;
-      }
-      else if (arg == "-generate")
-        generate = value ();
-      else if (arg == "-k")
-        reconstruction.setNumberOfNeighbours (std::stoi (value ()));
-      else if (arg == "-radius")
-        reconstruction.setSearchRadius (std::stod (value ()));
-      else if (arg == "-threads") {
-        const int threads = std::stoi (value ());
-        if (threads < 1)
-          return fail ("-threads needs a positive number");
-        omp_set_num_threads (threads);
-      }
-      else if (arg == "-weights") {
-        const std::string w = value ();
-        if (w == "uniform")
-          reconstruction.setWeightType (Reconstruction::WeightType::Uniform);
-        else if (w == "distance")
-          reconstruction.setWeightType (Reconstruction::WeightType::ReciprocalDistance);
-        else if (w == "shape")
-          reconstruction.setWeightType (Reconstruction::WeightType::ShapePreserving);
-        else if (w == "meanvalue")
-          reconstruction.setWeightType (Reconstruction::WeightType::MeanValue);
-        else
-          return fail ("unknown weight type '" + w + "' (uniform|distance|shape|meanvalue)");
-      }
-      else if (arg == "-optimize") {
-        const std::string o = value ();
-        if (o != "0" && o != "1")
-          return fail ("-optimize takes 0 or 1");
-        reconstruction.setOptimize (o == "1");
-      }
-      else if (arg == "-topology") {
-        const std::string t = value ();
-        if (t == "sphere")
-          reconstruction.setTopology (Reconstruction::Topology::Sphere);
-        else if (t == "disc")
-          reconstruction.setTopology (Reconstruction::Topology::Disc);
-        else
-          return fail ("unknown topology '" + t + "' (sphere|disc)");
-      }
-      else if (arg == "-retries") {
-        const int retries = std::stoi (value ());
-        if (retries < 0)
-          return fail ("-retries needs a number of at least 0");
-        reconstruction.setBaseRetries (retries);
-      }
-      else if (arg == "-self_intersections") {
-        const std::string x = value ();
-        if (x != "fail" && x != "keep")
-          return fail ("-self_intersections takes fail or keep");
-        reconstruction.setAllowSelfIntersections (x == "keep");
-      }
-      else if (arg == "-base") {
-        const std::string b = value ();
-        if (b == "auto")
-          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::BySize);
-        else if (b == "tetrahedron")
-          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Tetrahedron);
-        else if (b == "octahedron")
-          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Octahedron);
-        else if (b == "icosahedron")
-          reconstruction.setBasePolyhedron (Reconstruction::BasePolyhedron::Icosahedron);
-        else
-          return fail ("unknown base '" + b + "' (auto|tetrahedron|octahedron|icosahedron)");
-      }
-      else if (arg.size () > 1 && arg[0] == '-')
-        return fail ("unknown option " + arg + " (see -h)");
-      else
-        positional.push_back (arg);
-    }
-    catch (const std::exception&) {
-      return fail ("option " + arg + " needs a numeric value");
-    }
-  }
+  std::string generate;
+  int threads = 0;
+  if (!line.read ("-generate", generate) || !readNumbers (line, reconstruction, threads) ||
+      !readChoices (line, reconstruction) || !line.error ().empty ())
+    return meshless_tools::fail (kTool, line.error ());
   const std::size_t expected_positional = generate.empty () ? 2 : 1;
-  if (positional.size () != expected_positional)
-    return fail (generate.empty () ? "expected INPUT and OUTPUT (see -h)"
-                                   : "expected OUTPUT after -generate SHAPE (see -h)");
-  const std::string output_path = positional.back ();
+  if (line.positional ().size () != expected_positional)
+    return meshless_tools::fail (kTool, generate.empty ()
+                                            ? "expected INPUT and OUTPUT (see -h)"
+                                            : "expected OUTPUT after -generate SHAPE (see -h)");
+  // TODO(lead): reconstruction.setNumberOfThreads (threads)
+  if (threads > 0)
+    omp_set_num_threads (threads);
 
-  auto cloud = pcl::make_shared<Cloud> ();
-  auto start = Clock::now ();
-  if (!generate.empty ()) {
-    const auto colon = generate.find (':');
-    pcl::meshless::SyntheticShape shape;
-    if (!pcl::meshless::parseSyntheticShape (generate.substr (0, colon), shape))
-      return fail ("unknown shape '" + generate.substr (0, colon) + "' (see -h)");
-    pcl::meshless::SyntheticCloudOptions options;
-    options.num_points = 20000;
-    if (colon != std::string::npos) {
-      // std::stoul would take "-1" as the largest count: accept digits only.
-      const std::string count = generate.substr (colon + 1);
-      constexpr std::size_t max_points = 100000000;
-      if (count.empty () || count.size () > 9 ||
-          count.find_first_not_of ("0123456789") != std::string::npos)
-        return fail ("the point count after ':' must be a whole number up to " +
-                     std::to_string (max_points));
-      options.num_points = std::stoul (count);
-    }
-    for (const auto& p : pcl::meshless::sampleShape (shape, options))
-      cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
-                                       static_cast<float> (p.z ())));
-    std::printf ("input: generated %s, %zu points\n", generate.c_str (), cloud->size ());
-  }
-  else {
-    const std::string error = loadCloud (positional[0], *cloud);
+  try {
+    auto cloud = pcl::make_shared<Cloud> ();
+    const std::string error = inputCloud (line, generate, *cloud);
     if (!error.empty ())
-      return fail (error);
-    std::printf ("input: %s, %zu points (%.2f s to read)\n", positional[0].c_str (),
-                 cloud->size (), secondsSince (start));
-  }
-  if (cloud->empty ())
-    return fail ("the input cloud is empty");
+      return meshless_tools::fail (kTool, error);
 
-  reconstruction.setProgressCallback ([] (const pcl::meshless::ProgressReport& stage) {
-    const long peak = peakResidentMegabytes ();
-    std::printf ("  %-15s %7.3f s  %3.0f%%  %6s  %s\n", stage.stage.c_str (), stage.seconds,
-                 100.0 * stage.fraction,
-                 peak < 0 ? "" : (std::to_string (peak) + " MB").c_str (), stage.detail.c_str ());
-    std::fflush (stdout);
-    return true;
-  });
-  reconstruction.setInputCloud (cloud);
-  pcl::PolygonMesh mesh;
-  start = Clock::now ();
-  reconstruction.reconstruct (mesh);
-  const double seconds = secondsSince (start);
-  const pcl::SphericalMeshlessReport& report = reconstruction.getReport ();
-  if (!report.success) {
-    // The class names its setters; here the option that sets them.
-    std::string reason = report.message;
-    const std::string setter = "setAllowSelfIntersections (true)";
-    const auto at = reason.find (setter);
-    if (at != std::string::npos)
-      reason.replace (at, setter.size (), "-self_intersections keep");
-    return fail (reason);
-  }
+    reconstruction.setProgressCallback (printStage);
+    reconstruction.setInputCloud (cloud);
+    pcl::PolygonMesh mesh;
+    TicToc timer;
+    timer.tic ();
+    {
+      const meshless_tools::QuietPclLog quiet;
+      reconstruction.reconstruct (mesh);
+    }
+    if (!reconstruction.getReport ().success)
+      return meshless_tools::fail (kTool, namingOptions (reconstruction.getReport ().message));
+    printResult (reconstruction, mesh, timer.toc () / 1000.0);
 
-  if (reconstruction.getTopology () == Reconstruction::Topology::Sphere)
-    std::printf ("mesh: %zu triangles through %zu points (2n - 4 = %zu) in %.2f s\n",
-                 mesh.polygons.size (), report.num_points, 2 * report.num_points - 4, seconds);
-  else
-    std::printf ("mesh: %zu triangles through %zu points, %zu hole(s) kept open, in %.2f s\n",
-                 mesh.polygons.size (), report.num_points, report.holes, seconds);
-  if (reconstruction.getOptimize ())
-    std::printf ("optimization: %zu swaps, cost %.6g -> %.6g\n", report.optimization.swaps,
-                 report.optimization.cost_before, report.optimization.cost_after);
-  std::printf ("check: %s\n", pcl::meshless::describe (report.mesh).c_str ());
-  if (report.num_duplicates > 0 || report.num_non_finite > 0)
-    std::printf ("input: %zu duplicate point(s) merged, %zu non-finite point(s) skipped\n",
-                 report.num_duplicates, report.num_non_finite);
-  const std::string error = saveMesh (output_path, mesh);
-  if (!error.empty ())
-    return fail (error);
-  std::printf ("wrote %s\n", output_path.c_str ());
+    const std::string& output = line.positional ().back ();
+    const std::string saved = meshless_tools::saveMesh (output, mesh);
+    if (!saved.empty ())
+      return meshless_tools::fail (kTool, saved);
+    print_info ("wrote %s\n", output.c_str ());
+  } catch (const std::exception& e) {
+    // Out of memory, mostly: one line all the same.
+    return meshless_tools::fail (kTool, e.what ());
+  }
   return 0;
 }

@@ -7,10 +7,12 @@
 // both meshes (binary PLY) and one PNG per method, rendered off screen from the same
 // camera (needs an X display; run under xvfb-run on a headless machine).
 #include "cloud_io.h"
+#include "command_line.h"
 #include "greedy_projection.h"
 #include "mesh_render.h"
 
 #include <pcl/common/common.h>
+#include <pcl/console/time.h>
 #include <pcl/filters/filter.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/meshless/mesh_checks.h>
@@ -19,7 +21,6 @@
 
 #include <malloc.h>
 
-#include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -29,17 +30,20 @@
 
 namespace {
 
+using meshless_tools::CommandLine;
+using meshless_tools::fail;
 using meshless_tools::format;
 using meshless_tools::toPoints;
 using meshless_tools::toTriangles;
 
 using Cloud = pcl::PointCloud<pcl::PointXYZ>;
-using Clock = std::chrono::steady_clock;
+
+constexpr const char* kTool = "pcl_surface_compare";
 
 void
 usage (const char* program)
 {
-  std::printf (
+  pcl::console::print_info (
       "usage: %s INPUT [-reference MESH] [-out DIR] [options]\n"
       "INPUT   .pcd, .ply or .xyz (x y z per line)\n"
       "MESH    .ply reference surface for distances and normal deviation\n"
@@ -48,19 +52,6 @@ usage (const char* program)
       "  -samples N   points sampled per mesh for distances (default 100000)\n"
       "  -size P      picture width and height in pixels (default 600)\n",
       program);
-}
-
-int
-fail (const std::string& reason)
-{
-  std::fprintf (stderr, "pcl_surface_compare: %s\n", reason.c_str ());
-  return 1;
-}
-
-double
-secondsSince (Clock::time_point start)
-{
-  return std::chrono::duration<double> (Clock::now () - start).count ();
 }
 
 /** A value in kB from /proc/self/status ("VmRSS", "VmHWM"), or -1. */
@@ -152,157 +143,184 @@ printTable (const std::vector<MethodResult>& results, bool with_reference)
   }
 }
 
+struct CompareOptions
+{
+  std::string input, reference_path, out_dir;
+  pcl::meshless::MeshDistanceOptions distance;
+  int picture_size = 600;
+};
+
+/** The options, or false with the reason in `error`. */
+bool
+parseOptions (int argc, char** argv, CompareOptions& options, std::string& error)
+{
+  CommandLine line (argc, argv,
+                    {{"-h", false}, {"--help", false}, {"-reference", true}, {"-out", true},
+                     {"-samples", true}, {"-size", true}});
+  int samples = static_cast<int> (options.distance.samples);
+  int& size = options.picture_size;
+  const bool read = line.read ("-reference", options.reference_path) &&
+                    line.read ("-out", options.out_dir) && line.read ("-samples", samples) &&
+                    line.read ("-size", size) &&
+                    (samples >= 1 || line.reject ("-samples", "must be 1 or more")) &&
+                    ((size >= 16 && size <= 4096) || line.reject ("-size", "takes 16 to 4096 pixels"));
+  error = line.error ();
+  if (read && error.empty () && line.positional ().size () != 1)
+    error = line.positional ().empty () ? "expected INPUT (see -h)"
+                                        : "more than one INPUT (see -h)";
+  if (!error.empty ())
+    return false;
+  options.distance.samples = static_cast<std::size_t> (samples);
+  options.input = line.positional ()[0];
+  return true;
+}
+
+/** The input's finite points (greedy projection needs them; both methods get the
+  * same cloud) and the reference mesh when there is one. */
+std::string
+loadInputs (const CompareOptions& options, Cloud& cloud,
+            pcl::meshless::Points3& reference_vertices,
+            pcl::meshless::Triangles& reference_triangles)
+{
+  const meshless_tools::QuietPclLog quiet;
+  Cloud loaded;
+  std::string error = meshless_tools::loadCloud (options.input, loaded);
+  if (!error.empty ())
+    return error;
+  pcl::Indices kept;
+  pcl::removeNaNFromPointCloud (loaded, cloud, kept);
+  if (cloud.size () < 4)
+    return options.input + ": fewer than 4 finite points";
+  if (!options.reference_path.empty ())
+    error = meshless_tools::loadMesh (options.reference_path, reference_vertices,
+                                      reference_triangles);
+  return error;
+}
+
+/** Both methods on the same cloud and search tree, each timed and measured alone. */
+std::vector<MethodResult>
+runMethods (const Cloud::Ptr& cloud, const pcl::search::KdTree<pcl::PointXYZ>::Ptr& tree,
+            const meshless_tools::GreedyParameters& parameters)
+{
+  std::vector<MethodResult> results (2);
+  pcl::console::TicToc timer;
+  {
+    MethodResult& greedy = results[0];
+    greedy.name = "greedy projection";
+    const PeakMemory memory;
+    timer.tic ();
+    meshless_tools::greedyProjection (cloud, tree, parameters, greedy.mesh);
+    greedy.seconds = timer.toc () / 1000.0;
+    greedy.memory_mb = memory.megabytes ();
+  }
+  MethodResult& spherical = results[1];
+  spherical.name = "spherical meshless";
+  const PeakMemory memory;
+  timer.tic ();
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  reconstruction.setSearchMethod (tree);
+  // A measuring tool: a mesh with folds left is measured, not refused.
+  reconstruction.setAllowSelfIntersections (true);
+  {
+    const meshless_tools::QuietPclLog quiet;
+    reconstruction.reconstruct (spherical.mesh);
+  }
+  spherical.seconds = timer.toc () / 1000.0;
+  spherical.memory_mb = memory.megabytes ();
+  if (!reconstruction.getReport ().success)
+    pcl::console::print_info ("spherical meshless failed: %s\n",
+                              reconstruction.getReport ().message.c_str ());
+  return results;
+}
+
+/** Both meshes as binary PLY and, with a display, a PNG each from one camera. */
+std::string
+writeOutputs (const CompareOptions& options, const Cloud& cloud,
+              const std::vector<MethodResult>& results)
+{
+  std::error_code code;
+  std::filesystem::create_directories (options.out_dir, code);
+  if (code)
+    return "cannot create " + options.out_dir + ": " + code.message ();
+  const std::string stem = std::filesystem::path (options.input).stem ().string ();
+  const bool can_render = std::getenv ("DISPLAY") != nullptr;
+  // The same camera for every method, fitted to the cloud's bounding box whatever
+  // triangles the method made.
+  pcl::PointXYZ lo, hi;
+  pcl::getMinMax3D (cloud, lo, hi);
+  const std::array<double, 6> bounds{lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
+  meshless_tools::RenderOptions render;
+  render.size = options.picture_size;
+  for (std::size_t m = 0; m < results.size (); ++m) {
+    const std::string base = (std::filesystem::path (options.out_dir) /
+                              (stem + (m == 0 ? "_greedy" : "_spherical")))
+                                 .string ();
+    std::string error = meshless_tools::saveMesh (base + ".ply", results[m].mesh);
+    if (error.empty () && can_render)
+      error = meshless_tools::renderPng (results[m].mesh, bounds, base + ".png", render);
+    if (!error.empty ())
+      return error;
+  }
+  pcl::console::print_info (
+      "\nwrote %s/%s_{greedy,spherical}.ply%s\n", options.out_dir.c_str (), stem.c_str (),
+      can_render ? " and .png" : " (no DISPLAY: pictures skipped, use xvfb-run)");
+  return "";
+}
+
 int
 run (int argc, char** argv)
 {
-  std::string input, reference_path, out_dir;
-  pcl::meshless::MeshDistanceOptions distance_options;
-  int picture_size = 600;
-  for (int i = 1; i < argc; ++i) {
-    const std::string arg = argv[i];
-    const bool has_value = i + 1 < argc;
-    auto value = [&] () -> std::string { return has_value ? argv[++i] : ""; };
-    if ((arg == "-reference" || arg == "-out" || arg == "-samples" || arg == "-size") &&
-        !has_value)
-      return fail (arg + " needs a value");
-    try {
-      if (arg == "-h" || arg == "--help") {
-        usage (argv[0]);
-        return 0;
-      }
-      else if (arg == "-reference")
-        reference_path = value ();
-      else if (arg == "-out")
-        out_dir = value ();
-      else if (arg == "-samples") {
-        const long samples = std::stol (value ());
-        if (samples < 1)
-          return fail ("-samples needs a positive number");
-        distance_options.samples = static_cast<std::size_t> (samples);
-      }
-      else if (arg == "-size") {
-        picture_size = std::stoi (value ());
-        if (picture_size < 16 || picture_size > 4096)
-          return fail ("-size takes 16 to 4096 pixels");
-      }
-      else if (arg.size () > 1 && arg[0] == '-')
-        return fail ("unknown option " + arg + " (see -h)");
-      else if (input.empty ())
-        input = arg;
-      else
-        return fail ("more than one INPUT (see -h)");
-    } catch (const std::exception&) {
-      return fail ("option " + arg + " needs a numeric value");
-    }
+  CompareOptions options;
+  std::string error;
+  if (pcl::console::find_switch (argc, argv, "-h") ||
+      pcl::console::find_switch (argc, argv, "--help")) {
+    usage (argv[0]);
+    return 0;
   }
-  if (input.empty ())
-    return fail ("expected INPUT (see -h)");
-
-  auto loaded = pcl::make_shared<Cloud> ();
-  std::string error = meshless_tools::loadCloud (input, *loaded);
-  if (!error.empty ())
-    return fail (error);
-  // Greedy projection needs finite points; both methods get the same cloud.
+  if (!parseOptions (argc, argv, options, error))
+    return fail (kTool, error);
   auto cloud = pcl::make_shared<Cloud> ();
-  pcl::Indices kept;
-  pcl::removeNaNFromPointCloud (*loaded, *cloud, kept);
-  if (cloud->size () < 4)
-    return fail ("the input has fewer than 4 finite points");
-
   pcl::meshless::Points3 reference_vertices;
   pcl::meshless::Triangles reference_triangles;
-  if (!reference_path.empty ()) {
-    error = meshless_tools::loadMesh (reference_path, reference_vertices,
-                                      reference_triangles);
-    if (!error.empty ())
-      return fail (error);
-  }
-  if (!out_dir.empty ()) {
-    std::error_code code;
-    std::filesystem::create_directories (out_dir, code);
-    if (code)
-      return fail ("cannot create " + out_dir + ": " + code.message ());
-  }
+  error = loadInputs (options, *cloud, reference_vertices, reference_triangles);
+  if (!error.empty ())
+    return fail (kTool, error);
 
   auto tree = pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>> ();
   tree->setInputCloud (cloud);
   const meshless_tools::GreedyParameters parameters =
       meshless_tools::greedyParameters (*tree, *cloud);
-  std::printf ("input: %s, %zu finite points\n", input.c_str (), cloud->size ());
-  std::printf ("greedy projection: %s\n", parameters.describe ().c_str ());
-  std::printf ("spherical meshless: default options (k = 12, mean value weights, "
-               "base polyhedron by size; a mesh with folds left is kept and its pairs counted)\n");
+  pcl::console::print_info ("input: %s, %zu finite points\n", options.input.c_str (),
+                            cloud->size ());
+  pcl::console::print_info ("greedy projection: %s\n", parameters.describe ().c_str ());
+  pcl::console::print_info (
+      "spherical meshless: default options (k = 12, mean value weights, base polyhedron "
+      "by size; a mesh with folds left is kept and its pairs counted)\n");
   std::fflush (stdout);
-
-  std::vector<MethodResult> results (2);
-  {
-    MethodResult& greedy = results[0];
-    greedy.name = "greedy projection";
-    const PeakMemory memory;
-    const auto start = Clock::now ();
-    meshless_tools::greedyProjection (cloud, tree, parameters, greedy.mesh);
-    greedy.seconds = secondsSince (start);
-    greedy.memory_mb = memory.megabytes ();
-  }
-  {
-    MethodResult& spherical = results[1];
-    spherical.name = "spherical meshless";
-    const PeakMemory memory;
-    const auto start = Clock::now ();
-    pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
-    reconstruction.setInputCloud (cloud);
-    reconstruction.setSearchMethod (tree);
-    // A measuring tool: a mesh with folds left is measured, not refused.
-    reconstruction.setAllowSelfIntersections (true);
-    reconstruction.reconstruct (spherical.mesh);
-    spherical.seconds = secondsSince (start);
-    spherical.memory_mb = memory.megabytes ();
-    if (!reconstruction.getReport ().success)
-      std::printf ("spherical meshless failed: %s\n",
-                   reconstruction.getReport ().message.c_str ());
-  }
+  std::vector<MethodResult> results = runMethods (cloud, tree, parameters);
 
   const pcl::meshless::Points3 vertices = toPoints (*cloud);
+  const bool with_reference = !options.reference_path.empty ();
   for (MethodResult& r : results) {
     // Both meshes are written and rendered over the plain points (greedy projection
     // keeps the normals in its cloud, which would shade by their arbitrary signs).
     pcl::toPCLPointCloud2 (*cloud, r.mesh.cloud);
     const pcl::meshless::Triangles triangles = toTriangles (r.mesh);
     r.report = pcl::meshless::checkMesh (vertices, triangles);
-    if (!reference_path.empty ()) {
-      r.distance =
-          pcl::meshless::compareToReference (vertices, triangles, reference_vertices,
-                                             reference_triangles, distance_options);
-      if (!r.distance->success)
-        std::printf ("%s: no distance: %s\n", r.name.c_str (),
-                     r.distance->message.c_str ());
-    }
+    if (!with_reference)
+      continue;
+    r.distance = pcl::meshless::compareToReference (
+        vertices, triangles, reference_vertices, reference_triangles, options.distance);
+    if (!r.distance->success)
+      pcl::console::print_info ("%s: no distance: %s\n", r.name.c_str (),
+                                r.distance->message.c_str ());
   }
-  printTable (results, !reference_path.empty ());
-
-  if (!out_dir.empty ()) {
-    const std::string stem = std::filesystem::path (input).stem ().string ();
-    const bool can_render = std::getenv ("DISPLAY") != nullptr;
-    // The same camera for every method, fitted to the cloud's bounding box whatever
-    // triangles the method made.
-    pcl::PointXYZ lo, hi;
-    pcl::getMinMax3D (*cloud, lo, hi);
-    const std::array<double, 6> bounds{lo.x, hi.x, lo.y, hi.y, lo.z, hi.z};
-    meshless_tools::RenderOptions render;
-    render.size = picture_size;
-    for (std::size_t m = 0; m < results.size (); ++m) {
-      const std::string base = (std::filesystem::path (out_dir) /
-                                (stem + (m == 0 ? "_greedy" : "_spherical")))
-                                   .string ();
-      error = meshless_tools::saveMesh (base + ".ply", results[m].mesh);
-      if (error.empty () && can_render)
-        error = meshless_tools::renderPng (results[m].mesh, bounds, base + ".png", render);
-      if (!error.empty ())
-        return fail (error);
-    }
-    std::printf (
-        "\nwrote %s/%s_{greedy,spherical}.ply%s\n", out_dir.c_str (), stem.c_str (),
-        can_render ? " and .png" : " (no DISPLAY: pictures skipped, use xvfb-run)");
+  printTable (results, with_reference);
+  if (!options.out_dir.empty ()) {
+    error = writeOutputs (options, *cloud, results);
+    if (!error.empty ())
+      return fail (kTool, error);
   }
   return 0;
 }
@@ -316,6 +334,6 @@ main (int argc, char** argv)
   try {
     return run (argc, argv);
   } catch (const std::exception& e) {
-    return fail (e.what ());
+    return fail (kTool, e.what ());
   }
 }

@@ -4,10 +4,12 @@
 #  pcl_spherical_meshless - see LICENSE.
 #
 # Writes the seed corpus of fuzz_reconstruction into corpus/ (next to this file):
-# small clouds the reconstruction handles, and the bad inputs of issue 7, in the
-# byte layout that fuzz_reconstruction.cpp documents. Deterministic: running it
-# again gives the same files. Findings of the fuzzer are added to corpus/ as they
-# are (named finding-*), not by this script.
+# small clouds the reconstruction handles, and bad inputs (too few points, NaN,
+# duplicates, flat and thin clouds), in the byte layout that fuzz_reconstruction.cpp
+# documents; and the seeds of fuzz_readers and test_cli_inputs into corpus_readers/:
+# one small valid file of each format and encoding the tools read. Deterministic:
+# running it again gives the same files. Findings of the fuzzer are added to corpus/
+# as they are (named finding-*), not by this script.
 import math
 import os
 import random
@@ -15,6 +17,7 @@ import struct
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 CORPUS = os.path.join(HERE, "corpus")
+READERS_CORPUS = os.path.join(HERE, "corpus_readers")
 
 # Byte 1 of the header.
 UNIFORM, DISTANCE, SHAPE, MEANVALUE = 0, 1, 2, 3
@@ -104,5 +107,57 @@ def main():
     write("k-zero", fibonacci_sphere(30), k=0)
 
 
+def lzf_literals(data):
+    """LZF as PCL reads it, literal runs only (a control byte of length - 1, at most
+    32 bytes): valid binary_compressed data without a compressor."""
+    out = b""
+    for at in range(0, len(data), 32):
+        chunk = data[at:at + 32]
+        out += bytes([len(chunk) - 1]) + chunk
+    return out
+
+
+def pcd_header(n, data):
+    return ("# .PCD v0.7 - Point Cloud Data file format\nVERSION 0.7\nFIELDS x y z\n"
+            "SIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\nWIDTH %d\nHEIGHT 1\n"
+            "VIEWPOINT 0 0 0 1 0 0 0\nPOINTS %d\nDATA %s\n" % (n, n, data)).encode()
+
+
+def ply_header(fmt, n_vertices, n_faces):
+    return ("ply\nformat %s 1.0\ncomment seed of fuzz_readers\nelement vertex %d\n"
+            "property float x\nproperty float y\nproperty float z\nelement face %d\n"
+            "property list uchar int vertex_indices\nend_header\n"
+            % (fmt, n_vertices, n_faces)).encode()
+
+
+def write_readers_corpus():
+    os.makedirs(READERS_CORPUS, exist_ok=True)
+    points = fibonacci_sphere(12)
+    faces = [(0, 1, 2), (0, 2, 3), (0, 3, 1), (1, 3, 2)]
+
+    def save(name, data):
+        with open(os.path.join(READERS_CORPUS, name), "wb") as f:
+            f.write(data)
+
+    ascii_rows = "".join("%.6f %.6f %.6f\n" % p for p in points).encode()
+    packed = b"".join(struct.pack("<fff", *p) for p in points)
+    # binary_compressed stores the fields one after another (all x, then y, then z).
+    by_field = b"".join(struct.pack("<f", p[axis]) for axis in range(3) for p in points)
+    compressed = lzf_literals(by_field)
+    save("sphere-ascii.pcd", pcd_header(len(points), "ascii") + ascii_rows)
+    save("sphere-binary.pcd", pcd_header(len(points), "binary") + packed)
+    save("sphere-compressed.pcd", pcd_header(len(points), "binary_compressed") +
+         struct.pack("<II", len(compressed), len(by_field)) + compressed)
+    face_rows = "".join("3 %d %d %d\n" % f for f in faces).encode()
+    save("sphere-ascii.ply", ply_header("ascii", len(points), len(faces)) + ascii_rows +
+         face_rows)
+    save("sphere-binary.ply", ply_header("binary_little_endian", len(points), len(faces)) +
+         packed + b"".join(struct.pack("<Biii", 3, *f) for f in faces))
+    save("sphere-big-endian.ply", ply_header("binary_big_endian", len(points), 0) +
+         b"".join(struct.pack(">fff", *p) for p in points))
+    save("sphere.xyz", b"# x y z\n" + ascii_rows + b"nan nan nan\n")
+
+
 if __name__ == "__main__":
     main()
+    write_readers_corpus()

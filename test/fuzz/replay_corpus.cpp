@@ -2,7 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-// Runs fuzz_reconstruction's checks on every file of the committed corpus without
+// Runs a fuzz target's checks on every file of its committed corpus without
 // libFuzzer: the seeds and the fuzzer's findings (finding-*) become a regression
 // test of the ordinary builds, scripts/test and scripts/sanitize included.
 //   test_fuzz_corpus DIRECTORY_OR_FILE...
