@@ -7,12 +7,12 @@
 // include building the search tree. The kNN floor is one pass of PCL's KdTree build
 // plus a k = 12 query for every point, single-threaded: what any method built on
 // k nearest neighbours pays at least.
-#include "cloud_io.h"
-#include "greedy_projection.h"
+#include <meshless_tools/cloud_io.h>
+#include <meshless_tools/greedy_projection.h>
 
 #include <pcl/console/print.h>
 #include <pcl/search/kdtree.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include <benchmark/benchmark.h>

@@ -16,10 +16,10 @@
 // With -out, NAME_before.png and NAME_after.png show both meshes with their edges
 // and the reference's sharp edges the mesh misses in red (under xvfb-run when
 // headless).
-#include "cloud_io.h"
+#include <meshless_tools/cloud_io.h>
 #include "command_line.h"
 #ifdef MESHLESS_WITH_RENDER
-#include "mesh_render.h"
+#include <meshless_tools/mesh_render.h>
 #endif
 
 #include <pcl/common/common.h>
@@ -27,7 +27,7 @@
 #include <pcl/filters/filter.h>
 #include <pcl/surface/meshless/edge_swap.h>
 #include <pcl/surface/meshless/mesh_checks.h>
-#include <pcl/surface/meshless/mesh_distance.h>
+#include <meshless_tools/mesh_distance.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include <sys/resource.h>

@@ -6,12 +6,12 @@
 // OUTPUT is .ply (binary), .vtk or .obj. Prints stage timings and the triangle
 // count; exits 0 on success, otherwise 1 with a one-line reason on stderr that names
 // the option or the file to change.
-#include "cloud_io.h"
+#include <meshless_tools/cloud_io.h>
 #include "command_line.h"
 
 #include <pcl/console/time.h>
 #include <pcl/point_types.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 

@@ -6,17 +6,17 @@
 // sampled distance and normal deviation to the reference mesh. With -out it writes
 // both meshes (binary PLY) and one PNG per method, rendered off screen from the same
 // camera (needs an X display; run under xvfb-run on a headless machine).
-#include "cloud_io.h"
+#include <meshless_tools/cloud_io.h>
 #include "command_line.h"
-#include "greedy_projection.h"
-#include "mesh_render.h"
+#include <meshless_tools/greedy_projection.h>
+#include <meshless_tools/mesh_render.h>
 
 #include <pcl/common/common.h>
 #include <pcl/console/time.h>
 #include <pcl/filters/filter.h>
 #include <pcl/search/kdtree.h>
 #include <pcl/surface/meshless/mesh_checks.h>
-#include <pcl/surface/meshless/mesh_distance.h>
+#include <meshless_tools/mesh_distance.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include <malloc.h>

@@ -1,6 +1,6 @@
 // The base mesh D: polyhedra placed on the cloud, validation of user meshes.
 #include <pcl/surface/meshless/base_mesh.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include "test_support.h"
 

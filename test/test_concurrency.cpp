@@ -9,7 +9,7 @@
 // tested with them (SpherePipeline, EdgeSwap, MeshChecks).
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include "test_support.h"

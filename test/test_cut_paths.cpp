@@ -3,7 +3,7 @@
 #include <pcl/surface/meshless/cut_paths.h>
 #include <pcl/surface/meshless/normal_orientation.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include "test_support.h"
 

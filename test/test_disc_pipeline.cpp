@@ -4,7 +4,7 @@
 #include <pcl/surface/meshless/disc_pipeline.h>
 #include <pcl/surface/meshless/mesh_checks.h>
 #include <pcl/surface/meshless/normal_orientation.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include "test_support.h"

@@ -4,7 +4,7 @@
  */
 #include <pcl/surface/meshless/edge_swap.h>
 #include <pcl/surface/meshless/mesh_checks.h>
-#include <pcl/surface/meshless/mesh_distance.h>
+#include <meshless_tools/mesh_distance.h>
 
 #include "test_support.h"
 

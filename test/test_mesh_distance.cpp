@@ -1,7 +1,7 @@
 // Mesh-to-mesh distance: point-triangle distance, the nearest-triangle index against
 // brute force, sampled distances between meshes whose distances are known, and edge
 // comparison with a reference on hand-built cubes.
-#include <pcl/surface/meshless/mesh_distance.h>
+#include <meshless_tools/mesh_distance.h>
 
 #include <gtest/gtest.h>
 

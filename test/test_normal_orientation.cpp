@@ -2,9 +2,9 @@
 // round shapes and on thin limbs.
 #include <pcl/surface/meshless/normal_orientation.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
-#include "cloud_io.h"
+#include <meshless_tools/cloud_io.h>
 #include "test_support.h"
 
 #include <gtest/gtest.h>

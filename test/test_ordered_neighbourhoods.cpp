@@ -1,7 +1,7 @@
 // Paper §2: least-squares planes and Delaunay-ordered neighbourhoods.
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include "test_support.h"
 

@@ -3,7 +3,7 @@
 
 #include <pcl/surface/meshless/mesh_checks.h>
 #include <pcl/surface/meshless/reconstruct.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include "test_support.h"
 

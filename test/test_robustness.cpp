@@ -10,7 +10,7 @@
 #include <pcl/io/pcd_io.h>
 #include <pcl/point_types.h>
 #include <pcl/surface/meshless/mesh_checks.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include "test_support.h"

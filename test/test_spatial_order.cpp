@@ -1,6 +1,6 @@
 // The points' Z-order: a permutation that puts neighbours in space near in memory.
 #include <pcl/surface/meshless/spatial_order.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include <gtest/gtest.h>
 

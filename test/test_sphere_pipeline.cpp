@@ -6,7 +6,7 @@
 #include <pcl/surface/meshless/normal_orientation.h>
 #include <pcl/surface/meshless/patch_split.h>
 #include <pcl/surface/meshless/sphere_pipeline.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include "test_support.h"
 

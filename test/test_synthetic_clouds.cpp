@@ -1,5 +1,5 @@
 // The project's own generated clouds: deterministic, on their shapes, evenly spread.
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include "test_support.h"
 

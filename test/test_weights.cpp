@@ -1,7 +1,7 @@
 // Convex-combination weights: positivity, partition of unity, linear precision.
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 #include <pcl/surface/meshless/weights.h>
 
 #include "test_support.h"

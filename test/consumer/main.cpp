@@ -1,24 +1,29 @@
-// Uses the installed headers and library: generate a cloud, build its graph.
-#include <pcl/surface/meshless/neighbourhood_graph.h>
-#include <pcl/surface/meshless/synthetic_clouds.h>
+// Uses the installed headers and library as a PCL user does: a sampled sphere in,
+// a closed mesh out.
+#include <pcl/point_types.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
 
+#include <cmath>
 #include <iostream>
 
 int
 main ()
 {
-  using namespace pcl::meshless;
-  const Points3 points = sampleShape (SyntheticShape::Sphere, {200, 1, 0.0});
-  CsrGraph directed;
-  directed.offsets.push_back (0);
-  for (std::size_t v = 0; v < points.size (); ++v) {
-    directed.adjacency.push_back (static_cast<pcl::index_t> ((v + 1) % points.size ()));
-    directed.offsets.push_back (static_cast<pcl::index_t> (directed.adjacency.size ()));
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  const int n = 300;
+  const double golden = M_PI * (3.0 - std::sqrt (5.0));
+  for (int i = 0; i < n; ++i) { // a Fibonacci lattice on the unit sphere
+    const double z = 1.0 - (2.0 * i + 1.0) / n, r = std::sqrt (1.0 - z * z);
+    cloud->push_back (pcl::PointXYZ (static_cast<float> (r * std::cos (golden * i)),
+                                     static_cast<float> (r * std::sin (golden * i)),
+                                     static_cast<float> (z)));
   }
-  const CsrGraph graph = symmetricGraph (directed);
-  std::vector<pcl::index_t> labels;
-  const std::size_t components = connectedComponents (graph, labels);
-  std::cout << "consumer: " << graph.size () << " vertices, " << components
-            << " component(s)\n";
-  return components == 1 && graph.numEntries () == 2 * points.size () ? 0 : 1;
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  reconstruction.setNumberOfThreads (1);
+  pcl::PolygonMesh mesh;
+  reconstruction.reconstruct (mesh);
+  std::cout << "consumer: " << mesh.polygons.size () << " triangles through " << n
+            << " points\n";
+  return reconstruction.getReport ().success && mesh.polygons.size () == 2u * n - 4 ? 0 : 1;
 }

@@ -6,7 +6,7 @@
 // read (.pcd, .ply and .xyz clouds through meshless_tools::loadCloud, a .ply mesh
 // through loadMesh). A file must load or be refused with a cause that names it;
 // crashes, sanitizer reports, escaping exceptions and hangs are libFuzzer's.
-#include "cloud_io.h"
+#include <meshless_tools/cloud_io.h>
 
 #include <pcl/console/print.h>
 

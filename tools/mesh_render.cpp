@@ -1,4 +1,4 @@
-#include "mesh_render.h"
+#include <meshless_tools/mesh_render.h>
 
 #include <pcl/io/vtk_lib_io.h>
 

@@ -1,6 +1,6 @@
-#include "cloud_io.h"
+#include <meshless_tools/cloud_io.h>
 
-#include "file_checks.h"
+#include <meshless_tools/file_checks.h>
 
 #include <pcl/common/io.h>
 #include <pcl/io/obj_io.h>

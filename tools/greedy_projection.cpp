@@ -1,4 +1,4 @@
-#include "greedy_projection.h"
+#include <meshless_tools/greedy_projection.h>
 
 #include <pcl/common/io.h>
 #include <pcl/features/normal_3d.h>

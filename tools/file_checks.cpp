@@ -1,4 +1,4 @@
-#include "file_checks.h"
+#include <meshless_tools/file_checks.h>
 
 #include <cerrno>
 #include <cstdint>

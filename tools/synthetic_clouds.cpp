@@ -2,7 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-#include <pcl/surface/meshless/synthetic_clouds.h>
+#include <meshless_tools/synthetic_clouds.h>
 
 #include <Eigen/Geometry>
 

@@ -2,7 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-#include <pcl/surface/meshless/mesh_distance.h>
+#include <meshless_tools/mesh_distance.h>
 
 #include <Eigen/Geometry>
 
