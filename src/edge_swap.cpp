@@ -10,7 +10,7 @@
 #include "common/constants.h"
 #include "common/half_edges.h"
 #include "common/threads.h"
-#include "common/triangle_grid.h"
+#include "common/uniform_grid.h"
 
 #include <algorithm>
 #include <cmath>

@@ -8,7 +8,7 @@
 #include <pcl/surface/meshless/triangle_intersection.h>
 
 #include "common/threads.h"
-#include "common/triangle_grid.h"
+#include "common/uniform_grid.h"
 
 #include <Eigen/Geometry>
 #include <Eigen/LU>

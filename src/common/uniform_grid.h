@@ -12,6 +12,14 @@
 #include <cstdint>
 #include <vector>
 
+/** \file
+  * The pieces every uniform grid over triangle boxes needs: where the cells lie, the
+  * range of cells a box meets, and per-query visit stamps. The edge swaps' grid
+  * (hashed buckets over the whole mesh, entries moved as swaps change boxes) and
+  * the fold repair's (tables for the blocks near the folds only, entries never
+  * removed) store their cells differently because they answer different queries.
+  */
+
 namespace pcl {
 namespace meshless {
 
