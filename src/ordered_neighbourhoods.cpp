@@ -114,10 +114,10 @@ delaunayRing (const Points2& local, std::vector<int>& ring)
   // edge of positive length iff its p_j is a vertex of K other than the origin. So
   // the ring is K's vertex set, found by a monotone-chain hull in O(d log d) instead
   // of clipping each bisector by every other half plane in O(d^2), which dominated
-  // the rings' time on large clouds. A point hidden behind a
-  // nearer one in the same direction lies on [0, p_j]; a co-circular fourth point
-  // (a zero-length Voronoi edge) on a hull edge: neither is a vertex. Of points at
-  // the same place only one can be.
+  // the rings' time on large clouds. A point hidden behind a nearer one in the same
+  // direction lies on [0, p_j]; a co-circular fourth point (a zero-length Voronoi
+  // edge) on a hull edge: neither is a vertex. Of points at the same place only one
+  // can be.
   struct Polar
   {
     Eigen::Vector2d p;
