@@ -3,14 +3,14 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include <pcl/surface/meshless/edge_swap.h>
-#include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/triangle_intersection.h>
 
 #include <Eigen/Geometry>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "common/constants.h"
+#include "common/half_edges.h"
+#include "common/threads.h"
+#include "common/uniform_grid.h"
 
 #include <algorithm>
 #include <cmath>
@@ -28,8 +28,6 @@ namespace meshless {
 namespace {
 
 using Vec3 = Eigen::Vector3d;
-
-constexpr double pi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------------------
 // Broad phase for local intersection queries: a hashed uniform grid of triangle
@@ -86,37 +84,27 @@ overlap (const Box& a, const CompactBox& b)
          (b.lo.cast<double> ().array () <= a.hi.array ()).all ();
 }
 
-/** Which triangles a query has visited already: one stamp per triangle slot, so
-  * that a query costs nothing to reset. One per thread. */
-struct Marks
-{
-  explicit Marks (std::size_t triangles) : mark (triangles, 0) {}
-  std::vector<std::uint32_t> mark;
-  std::uint32_t stamp = 0;
-};
-
 /** Triangle slots hashed by the cells of a uniform grid that their bounding boxes
   * cover; hash collisions only add candidates. Queries (forCandidates) only read it,
-  * so they may run in parallel, each with its own Marks. */
+  * so they may run in parallel, each with its own VisitStamps. */
 class TriangleGrid
 {
 public:
   TriangleGrid (std::size_t triangles, const Vec3& origin, double cell)
-    : inverse_cell_ (1.0 / cell), origin_ (origin)
+    : frame_ (origin, cell, -cell_limit, cell_limit)
   {
     // One bucket per 8 triangles: a triangle covers one to a few cells and a cell
     // holds a few dozen triangles, so buckets of a few cells each cost little (the
-    // tags below tell the cells apart), while an empty bucket's 24 bytes add up (armadillo_uniform_1m: one per triangle, 50 MB
-    // of 2 million buckets; the swaps' stage peak 666 -> 620 MB; one per 16
-    // triangles: slower, 4.7-5.1 s against 3.7-4.2 s).
+    // tags below tell the cells apart), while an empty bucket's 24 bytes add up to
+    // the stage's peak; fewer buckets make the queries slower.
     std::size_t buckets = 1;
     while (buckets < triangles / 8)
       buckets *= 2;
     buckets_.resize (buckets);
     // The bits of an entry above the slot carry a tag of its cell, so that a query
     // passes over the other cells of its bucket without touching their triangles
-    // (measured on the 1M armadillo: 171 -> 42 slots visited per swap query, 17 of
-    // them overlapping). Meshes of 2^31 triangles or more go without tags.
+    // (a quarter of the slots visited). Meshes of 2^31 triangles or more go without
+    // tags.
     while (slot_bits_ < 32 && (std::uint64_t{1} << slot_bits_) < triangles)
       ++slot_bits_;
     tag_mask_ = slot_bits_ >= 32 ? 0 : ~std::uint32_t{0} << slot_bits_;
@@ -125,7 +113,7 @@ public:
   void
   insert (std::int32_t t, const Box& box)
   {
-    const Cells cells = cellsOf (box);
+    const CellRange cells = cellsOf (box);
     if (cells.count () > max_cells)
       large_.push_back (t);
     else
@@ -135,7 +123,7 @@ public:
   void
   remove (std::int32_t t, const Box& box)
   {
-    const Cells cells = cellsOf (box);
+    const CellRange cells = cellsOf (box);
     if (cells.count () > max_cells) {
       const auto it = std::find (large_.begin (), large_.end (), t);
       if (it != large_.end ())
@@ -166,21 +154,16 @@ public:
     * asked first (cheaper than the marks). */
   template <typename Wanted, typename Visit>
   void
-  forCandidates (const Box& box, Marks& marks, Wanted&& wanted, Visit&& visit) const
+  forCandidates (const Box& box, VisitStamps& marks, Wanted&& wanted, Visit&& visit) const
   {
-    if (++marks.stamp == 0) {
-      std::fill (marks.mark.begin (), marks.mark.end (), 0);
-      marks.stamp = 1;
-    }
+    marks.startQuery ();
     const auto consider = [&] (std::int32_t t) {
-      if (wanted (t) && marks.mark[t] != marks.stamp) {
-        marks.mark[t] = marks.stamp;
+      if (wanted (t) && marks.firstVisit (t))
         visit (t);
-      }
     };
     // A box over more cells than there are buckets is cheaper to answer with all.
-    const Cells cells = cellsOf (box);
-    if (cells.count () > static_cast<std::int64_t> (buckets_.size ()))
+    const CellRange cells = cellsOf (box);
+    if (cells.count () > static_cast<double> (buckets_.size ()))
       for (const auto& bucket : buckets_)
         for (const std::uint32_t e : bucket)
           consider (slotOf (e));
@@ -197,7 +180,7 @@ public:
 
   template <typename Visit>
   void
-  forCandidates (const Box& box, Marks& marks, Visit&& visit) const
+  forCandidates (const Box& box, VisitStamps& marks, Visit&& visit) const
   {
     forCandidates (box, marks, [] (std::int32_t) { return true; }, std::forward<Visit> (visit));
   }
@@ -205,27 +188,9 @@ public:
 private:
   /** Boxes over more cells than this go to a list every query scans (long slivers
     * across a fold would otherwise fill thousands of cells). */
-  static constexpr std::int64_t max_cells = 1024;
+  static constexpr double max_cells = 1024;
   /** Cell coordinates are clamped to [-cell_limit, cell_limit]. */
   static constexpr std::int64_t cell_limit = std::int64_t{1} << 19;
-
-  /** The cells a box covers, from lo to hi inclusive. */
-  struct Cells
-  {
-    std::array<std::int64_t, 3> lo, hi;
-
-    std::int64_t
-    count () const
-    {
-      return (hi[0] - lo[0] + 1) * (hi[1] - lo[1] + 1) * (hi[2] - lo[2] + 1);
-    }
-
-    bool
-    operator== (const Cells& o) const
-    {
-      return lo == o.lo && hi == o.hi;
-    }
-  };
 
   /** A cell's bucket and its tag (in the bits above slot_bits_). */
   struct Key
@@ -234,24 +199,14 @@ private:
     std::uint32_t tag;
   };
 
-  Cells
+  CellRange
   cellsOf (const Box& box) const
   {
-    // Clamped, so the conversion is defined and cell counts fit; the mapping stays
-    // monotone, so boxes that overlap still share a cell.
-    constexpr auto limit = static_cast<double> (cell_limit);
-    Cells cells;
-    for (int k = 0; k < 3; ++k) {
-      cells.lo[k] = static_cast<std::int64_t> (
-          std::clamp (std::floor ((box.lo[k] - origin_[k]) * inverse_cell_), -limit, limit));
-      cells.hi[k] = static_cast<std::int64_t> (
-          std::clamp (std::floor ((box.hi[k] - origin_[k]) * inverse_cell_), -limit, limit));
-    }
-    return cells;
+    return frame_.cellsOf (box.lo, box.hi);
   }
 
   Key
-  keyOf (const std::array<std::int64_t, 3>& cell) const
+  keyOf (const GridCell& cell) const
   {
     const std::uint64_t h = static_cast<std::uint64_t> (cell[0]) * 73856093ull ^
                             static_cast<std::uint64_t> (cell[1]) * 19349663ull ^
@@ -277,16 +232,12 @@ private:
 
   template <typename Apply>
   void
-  forCells (const Cells& cells, Apply&& apply) const
+  forCells (const CellRange& cells, Apply&& apply) const
   {
-    for (std::int64_t x = cells.lo[0]; x <= cells.hi[0]; ++x)
-      for (std::int64_t y = cells.lo[1]; y <= cells.hi[1]; ++y)
-        for (std::int64_t z = cells.lo[2]; z <= cells.hi[2]; ++z)
-          apply (keyOf ({x, y, z}));
+    forEachCell (cells, [&] (const GridCell& cell) { apply (keyOf (cell)); });
   }
 
-  double inverse_cell_;
-  Vec3 origin_;
+  GridFrame frame_;
   std::vector<std::vector<std::uint32_t>> buckets_;
   std::vector<std::int32_t> large_;
   int slot_bits_ = 0;
@@ -294,20 +245,8 @@ private:
 };
 
 /** Loops over fewer items than this run on one thread: waking the other threads
-  * costs milliseconds on a loaded machine (measured: the 7,000-triangle bunny took
-  * 0.04 s on two threads, 0.017 s on one), more than such loops take. */
+  * costs milliseconds on a loaded machine, more than such loops take. */
 constexpr std::ptrdiff_t parallel_from = 50000;
-
-int
-threadCount (int requested)
-{
-#ifdef _OPENMP
-  return requested > 0 ? requested : omp_get_max_threads ();
-#else
-  (void) requested;
-  return 1;
-#endif
-}
 
 // ---------------------------------------------------------------------------
 // The optimizer: a half-edge structure over the triangle array, the heap, the passes.
@@ -433,6 +372,32 @@ public:
                                                                                : nullptr)
   {}
 
+  /** Numbers the edge of the half-edges [first, last) and pairs them as twins;
+    * false with message_ set if they are more than two or run the same way. */
+  bool
+  pairHalfEdges (const HalfEdgeGroups::Entry* first, const HalfEdgeGroups::Entry* last)
+  {
+    if (last - first > 2) {
+      message_ = "the mesh has an edge shared by more than two triangles";
+      return false;
+    }
+    const std::int32_t h = first->second;
+    const auto e = static_cast<std::int32_t> (edge_he_.size ());
+    edge_he_.push_back (h);
+    edge_of_[h] = e;
+    if (last - first == 2) {
+      const std::int32_t g = first[1].second;
+      if (from (h) == from (g)) {
+        message_ = "the triangles are not consistently oriented";
+        return false;
+      }
+      opp_[h] = g;
+      opp_[g] = h;
+      edge_of_[g] = e;
+    }
+    return true;
+  }
+
   /** Builds the half-edge structure; false with message_ set if the input is not a
     * manifold, consistently oriented mesh. */
   bool
@@ -443,41 +408,18 @@ public:
       message_ = "too many triangles for 32-bit half-edge indices";
       return false;
     }
-    // Edges numbered in the order of (smaller, larger) vertex. A radix sort of
-    // 64-bit keys did the same with 192 MB of pairs and buffer on a million points;
-    // the groups take 52 MB.
-    const std::size_t n = p_.size ();
-    const HalfEdgeGroups groups = groupHalfEdges (tri_, n);
+    // Edges numbered in the order of (smaller, larger) vertex.
+    const HalfEdgeGroups groups = groupHalfEdges (tri_, p_.size ());
     opp_.assign (nh, -1);
     edge_of_.assign (nh, -1);
-    for (std::size_t v = 0; v < n; ++v) {
-      const auto first = groups.ends.begin () + groups.start[v];
-      const auto last = groups.ends.begin () + groups.start[v + 1];
-      for (auto i = first; i != last;) {
-        auto j = i + 1;
-        while (j != last && j->first == i->first)
-          ++j;
-        if (j - i > 2) {
-          message_ = "the mesh has an edge shared by more than two triangles";
-          return false;
-        }
-        const std::int32_t h = i->second;
-        const auto e = static_cast<std::int32_t> (edge_he_.size ());
-        edge_he_.push_back (h);
-        edge_of_[h] = e;
-        if (j - i == 2) {
-          const std::int32_t g = (i + 1)->second;
-          if (from (h) == from (g)) {
-            message_ = "the triangles are not consistently oriented";
-            return false;
-          }
-          opp_[h] = g;
-          opp_[g] = h;
-          edge_of_[g] = e;
-        }
-        i = j;
-      }
-    }
+    bool valid = true;
+    forEachEdge (groups, [&] (std::size_t, const HalfEdgeGroups::Entry* first,
+                              const HalfEdgeGroups::Entry* last) {
+      if (valid)
+        valid = pairHalfEdges (first, last);
+    });
+    if (!valid)
+      return false;
     unit_normal_.resize (tri_.size ());
     for (std::size_t t = 0; t < tri_.size (); ++t)
       updateNormal (t);
@@ -559,8 +501,7 @@ public:
     // Cells of three mean edge lengths: a swap's query box (its quad) then spans one
     // or two cells along each axis. Each cell a query visits is a cache miss in the
     // buckets; the cells' other triangles are passed over by their tags and boxes.
-    // Measured on the 1M armadillo's swaps (two runs each): 1.5 edge lengths
-    // 2.82-2.85 s, 2.0 2.49 s, 3.0 2.28-2.36 s, 4.0 2.31-2.40 s.
+    // Smaller cells make the swaps slower, larger ones no faster.
     grid_ = std::make_unique<TriangleGrid> (tri_.size (), tri_.empty () ? Vec3::Zero () : p_[tri_[0][0]],
                                             3.0 * std::max (length, 1e-300));
     // The per-triangle data in parallel, the grid entries in order.
@@ -574,7 +515,7 @@ public:
     }
     for (std::size_t t = 0; t < tri_.size (); ++t)
       grid_->insert (static_cast<std::int32_t> (t), box_[t].widened ());
-    marks_ = std::make_unique<Marks> (tri_.size ());
+    marks_ = std::make_unique<VisitStamps> (tri_.size ());
     partners_.assign (tri_.size (), 0);
     intersections_ = 0;
     if (options_.input_free_of_intersections)
@@ -587,7 +528,7 @@ public:
     const auto count = static_cast<std::ptrdiff_t> (tri_.size ());
 #pragma omp parallel num_threads(threads_) if (count >= parallel_from)
     {
-      Marks marks (tri_.size ());
+      VisitStamps marks (tri_.size ());
       std::vector<std::pair<std::int32_t, std::int32_t>> own;
 #pragma omp for schedule(dynamic, 1024) nowait
       for (std::ptrdiff_t t = 0; t < count; ++t) {
@@ -782,7 +723,6 @@ public:
   void
   improveAngles (double max_dihedral_deg)
   {
-    constexpr double pi = 3.14159265358979323846;
     const double cos_flat = std::cos (max_dihedral_deg * pi / 180.0);
     // The descent is over: keeping its heap up to date would cost more than the
     // swaps themselves (each swap re-prices about 13 edges).
@@ -899,8 +839,8 @@ private:
     return options_.cost == SwapCost::AngleBetweenNormals ? 1.0 : 1.5 * (p_[u] - p_[w]).norm ();
   }
 
-  /** The weight of edge e. Computed when asked: a cache took 24 MB on a million
-    * points, which lifted the stage's peak above the patches' in some runs. */
+  /** The weight of edge e. Computed when asked: a cache per edge could lift the
+    * stage's peak above the patches'. */
   double
   weightOf (std::int32_t e) const
   {
@@ -1268,8 +1208,8 @@ private:
   }
 
   /** The plane filter of slot t's triangle. Made when asked, not kept per slot (72
-    * bytes each, 144 MB on a million points): only candidates whose box overlaps and
-    * which the other plane did not settle need it. */
+    * bytes each): only candidates whose box overlaps and which the other plane did
+    * not settle need it. */
   PlaneFilter
   slotPlane (std::int32_t t) const
   {
@@ -1282,7 +1222,7 @@ private:
     * parallel with separate marks. */
   template <typename Consider, typename AxisOf, typename Visit>
   void
-  forEachIntersecting (const Triangle& t, int axis, Marks& marks, Consider&& consider,
+  forEachIntersecting (const Triangle& t, int axis, VisitStamps& marks, Consider&& consider,
                        AxisOf&& axis_of, Visit&& visit) const
   {
     // Exactly degenerate faces (axis -1) are left out, as checkMesh does.
@@ -1476,7 +1416,7 @@ private:
   std::size_t swaps_ = 0;
 
   std::unique_ptr<TriangleGrid> grid_;
-  std::unique_ptr<Marks> marks_;
+  std::unique_ptr<VisitStamps> marks_;
   /** The new triangles of the last swap intersectionChange looked at. */
   struct
   {
@@ -1551,7 +1491,7 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     // The used vertices renumbered, on copies, in the order the triangles first use
     // them unless the caller's order is coherent already
     // (EdgeSwapOptions::renumber_vertices); without renumbering the swaps work on
-    // the caller's triangles themselves (24 MB less on a million points), which
+    // the caller's triangles themselves (one copy of the mesh less), which
     // build () only reads: an invalid mesh fails untouched, and a swap writes both
     // of its triangles before anything that allocates, so running out of memory
     // leaves the valid triangulation of the swaps made so far.
@@ -1582,7 +1522,7 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
       return result;
     }
     result.cost_before = optimizer.totalCost ();
-    result.median_dihedral_deg = optimizer.medianDihedral () * 180.0 / 3.14159265358979323846;
+    result.median_dihedral_deg = optimizer.medianDihedral () * 180.0 / pi;
     result.noisy = result.median_dihedral_deg > options.noisy_median_dihedral_deg;
     if (result.noisy)
       optimizer.keepCloseToPoints ();

@@ -7,6 +7,9 @@
 #include <pcl/surface/meshless/parameterization.h>
 #include <pcl/surface/meshless/triangle_intersection.h>
 
+#include "common/threads.h"
+#include "common/uniform_grid.h"
+
 #include <Eigen/Geometry>
 #include <Eigen/LU>
 #include <Eigen/SparseCore>
@@ -54,21 +57,21 @@ public:
   /** Only the blocks of block x block x block cells within `reach` cells of the
     * seeds are kept: the repair acts near the folds, and a query leaving those
     * blocks is refused (candidates() false). A kept block has a table of its cells,
-    * and a cell's list is made when a triangle enters it. Measured on the 1M
-    * armadillo's raw repair (4,212 seeds, reach 8): every cell within reach made up
-    * front in a hash map, 1.85 million of them, took 0.33 s and ~120 MB, and the
-    * queries' lookups in it were a sixth of the repair's time. */
+    * and a cell's list is made when a triangle enters it: every cell within reach
+    * made up front in a hash map costs time and memory, and lookups in it slow the
+    * queries. */
   TriangleGrid (const Points3& points,
                 const Triangles& triangles,
                 double cell,
                 const std::vector<pcl::index_t>& seeds,
-                int reach)
-  : points_ (points), triangles_ (triangles), inverse_cell_ (1.0 / cell),
-    mark_ (triangles.size (), 0)
+                int reach,
+                int threads)
+  : points_ (points), triangles_ (triangles),
+    frame_ (Vec3::Zero (), cell, -limit, limit - 1), visits_ (triangles.size ())
   {
     const Vec3 r = Vec3::Constant (reach * cell);
     for (const pcl::index_t v : seeds)
-      forRange (blocksOf (rangeOf (points[v] - r, points[v] + r)), [&] (const Cell& b) {
+      forEachCell (blocksOf (rangeOf (points[v] - r, points[v] + r)), [&] (const Cell& b) {
         if (blocks_.emplace (keyOf (b), static_cast<std::int32_t> (block_origins_.size ())).second)
           block_origins_.push_back (b);
       });
@@ -76,11 +79,9 @@ public:
     // The triangles there when the repair starts go into one array, cell after
     // cell, in slot order: their cells found on all threads (lookups only), then
     // counted and filled in. Growing a list per cell, one triangle after the other,
-    // took a reallocation every few entries. Measured on the 1M armadillo's raw
-    // repair (1.65M of its 2M triangles in reach of a fold, 314,189 cells): the
-    // grid's set-up 0.26 -> 0.125 s (two threads; 0.195 s on one).
+    // took a reallocation every few entries.
     std::vector<std::uint32_t> entry_start;
-    std::vector<std::uint32_t> entries = initialEntries (entry_start);
+    std::vector<std::uint32_t> entries = initialEntries (entry_start, threads);
     std::vector<std::uint32_t> count_of;
     for (const std::uint32_t entry : entries) {
       std::int32_t& id = cell_of_[entry];
@@ -139,17 +140,13 @@ public:
     out.clear ();
     // Each slot once: a stamp per slot instead of sorting (the sort took a quarter
     // of the queries' time).
-    if (++stamp_ == 0) {
-      std::fill (mark_.begin (), mark_.end (), 0);
-      stamp_ = 1;
-    }
+    visits_.startQuery ();
     Vec3 lo, hi;
     box (tri, lo, hi);
     const auto range = rangeOf (lo, hi);
     const auto scanOne = [&] (std::int32_t t) {
-      if (mark_[t] == stamp_)
+      if (!visits_.firstVisit (t))
         return;
-      mark_[t] = stamp_;
       Vec3 tlo, thi;
       box (triangles_[t], tlo, thi);
       if ((tlo.array () <= hi.array ()).all () && (lo.array () <= thi.array ()).all ())
@@ -163,30 +160,30 @@ public:
         scanOne (t);
     };
     // A box over more cells than are made (a far outlier's triangle, a long sliver)
-    // is answered from the made cells inside it: walking all its cells took minutes
-    // on a fuzzer's cloud.
-    if (count (range) > static_cast<double> (cells_.size ())) {
+    // is answered from the made cells inside it: walking all its cells can take
+    // minutes.
+    if (range.count () > static_cast<double> (cells_.size ())) {
       for (std::size_t id = 0; id < cells_.size (); ++id)
-        if (contains (range, cell_coordinates_[id]))
+        if (range.contains (cell_coordinates_[id]))
           scanCell (static_cast<std::int32_t> (id));
       return leavesNoBlock (range);
     }
     bool inside = true;
     const Range blocks = blocksOf (range);
-    if (blocks.first == blocks.second) {
+    if (blocks.lo == blocks.hi) {
       // The common case: one block, looked up once.
-      const auto it = blocks_.find (keyOf (blocks.first));
+      const auto it = blocks_.find (keyOf (blocks.lo));
       if (it == blocks_.end ())
         return false;
       const std::int32_t* table = cell_of_.data () + it->second * cells_per_block;
-      forRange (range, [&] (const Cell& c) {
+      forEachCell (range, [&] (const Cell& c) {
         const std::int32_t id = table[local (c)];
         if (id >= 0)
           scanCell (id);
       });
       return true;
     }
-    forRange (range, [&] (const Cell& c) {
+    forEachCell (range, [&] (const Cell& c) {
       const std::ptrdiff_t entry = tableEntry (c);
       if (entry < 0)
         inside = false;
@@ -205,8 +202,8 @@ public:
   }
 
 private:
-  using Cell = std::array<std::int64_t, 3>;
-  using Range = std::pair<Cell, Cell>;
+  using Cell = GridCell;
+  using Range = CellRange;
 
   /** Cells per block along each axis. */
   static constexpr std::int64_t block = 8;
@@ -230,7 +227,7 @@ private:
     * after triangle: those of slot t are entries[start[t] .. start[t + 1]). Found
     * on all threads (the tables are only read). */
   std::vector<std::uint32_t>
-  initialEntries (std::vector<std::uint32_t>& start) const
+  initialEntries (std::vector<std::uint32_t>& start, int threads) const
   {
     const auto m = static_cast<std::ptrdiff_t> (triangles_.size ());
     // Per triangle: -1 out of reach, -2 over several blocks (its cells looked up
@@ -252,15 +249,15 @@ private:
           visit (static_cast<std::uint32_t> (entry));
       });
     };
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (std::ptrdiff_t t = 0; t < m; ++t) {
       Vec3 lo, hi;
       box (triangles_[t], lo, hi);
       const Range range = rangeOf (lo, hi);
       const Range blocks = blocksOf (range);
-      if (blocks.first == blocks.second) {
+      if (blocks.lo == blocks.hi) {
         // Nearly every triangle lies in one block: most of the mesh is out of reach.
-        const auto it = blocks_.find (keyOf (blocks.first));
+        const auto it = blocks_.find (keyOf (blocks.lo));
         table_of[t] = it == blocks_.end () ? -1 : it->second;
       }
       else
@@ -272,7 +269,7 @@ private:
     for (std::size_t t = 0; t < triangles_.size (); ++t)
       start[t + 1] += start[t];
     std::vector<std::uint32_t> entries (start.back ());
-#pragma omp parallel for schedule(static)
+#pragma omp parallel for schedule(static) num_threads(threads)
     for (std::ptrdiff_t t = 0; t < m; ++t) {
       std::uint32_t k = start[t];
       forEntries (t, [&] (std::uint32_t entry) { entries[k++] = entry; });
@@ -293,15 +290,7 @@ private:
   Range
   rangeOf (const Vec3& lo, const Vec3& hi) const
   {
-    constexpr auto bound = static_cast<double> (limit);
-    Range range;
-    for (int k = 0; k < 3; ++k) {
-      range.first[k] = static_cast<std::int64_t> (
-          std::clamp (std::floor (lo[k] * inverse_cell_), -bound, bound - 1.0));
-      range.second[k] = static_cast<std::int64_t> (
-          std::clamp (std::floor (hi[k] * inverse_cell_), -bound, bound - 1.0));
-    }
-    return range;
+    return frame_.cellsOf (lo, hi);
   }
 
   static std::int64_t
@@ -319,8 +308,8 @@ private:
   {
     Range blocks;
     for (int k = 0; k < 3; ++k) {
-      blocks.first[k] = down (cells.first[k]);
-      blocks.second[k] = down (cells.second[k]);
+      blocks.lo[k] = down (cells.lo[k]);
+      blocks.hi[k] = down (cells.hi[k]);
     }
     return blocks;
   }
@@ -349,29 +338,11 @@ private:
   leavesNoBlock (const Range& range) const
   {
     const Range blocks = blocksOf (range);
-    if (count (blocks) > static_cast<double> (blocks_.size ()))
+    if (blocks.count () > static_cast<double> (blocks_.size ()))
       return false;
     bool inside = true;
-    forRange (blocks, [&] (const Cell& b) { inside = inside && blocks_.count (keyOf (b)) > 0; });
+    forEachCell (blocks, [&] (const Cell& b) { inside = inside && blocks_.count (keyOf (b)) > 0; });
     return inside;
-  }
-
-  static double
-  count (const Range& range)
-  {
-    double n = 1.0;
-    for (int k = 0; k < 3; ++k)
-      n *= static_cast<double> (range.second[k] - range.first[k] + 1);
-    return n;
-  }
-
-  static bool
-  contains (const Range& range, const Cell& c)
-  {
-    for (int k = 0; k < 3; ++k)
-      if (c[k] < range.first[k] || range.second[k] < c[k])
-        return false;
-    return true;
   }
 
   static std::uint64_t
@@ -381,35 +352,25 @@ private:
     return (bits (c[0]) << 42) | (bits (c[1]) << 21) | bits (c[2]);
   }
 
-  template <typename Visit>
-  static void
-  forRange (const Range& range, Visit visit)
-  {
-    for (std::int64_t x = range.first[0]; x <= range.second[0]; ++x)
-      for (std::int64_t y = range.first[1]; y <= range.second[1]; ++y)
-        for (std::int64_t z = range.first[2]; z <= range.second[2]; ++z)
-          visit (Cell{x, y, z});
-  }
-
   /** The cells of a range that insert() walks: a range over more cells than the
     * kept blocks hold is walked through the kept blocks instead. */
   template <typename Visit>
   void
   forCells (const Range& range, Visit visit) const
   {
-    if (count (range) <= static_cast<double> (cell_of_.size ())) {
-      forRange (range, visit);
+    if (range.count () <= static_cast<double> (cell_of_.size ())) {
+      forEachCell (range, visit);
       return;
     }
     for (const Cell& b : block_origins_) {
       Range cells;
       for (int k = 0; k < 3; ++k) {
-        cells.first[k] = std::max (range.first[k], b[k] * block);
-        cells.second[k] = std::min (range.second[k], b[k] * block + block - 1);
+        cells.lo[k] = std::max (range.lo[k], b[k] * block);
+        cells.hi[k] = std::min (range.hi[k], b[k] * block + block - 1);
       }
-      if (cells.first[0] <= cells.second[0] && cells.first[1] <= cells.second[1] &&
-          cells.first[2] <= cells.second[2])
-        forRange (cells, visit);
+      if (cells.lo[0] <= cells.hi[0] && cells.lo[1] <= cells.hi[1] &&
+          cells.lo[2] <= cells.hi[2])
+        forEachCell (cells, visit);
     }
   }
 
@@ -420,17 +381,17 @@ private:
   forBlocks (const Range& range, Visit visit) const
   {
     const Range blocks = blocksOf (range);
-    if (count (blocks) <= static_cast<double> (blocks_.size ()))
-      forRange (blocks, visit);
+    if (blocks.count () <= static_cast<double> (blocks_.size ()))
+      forEachCell (blocks, visit);
     else
       for (const Cell& b : block_origins_)
-        if (contains (blocks, b))
+        if (blocks.contains (b))
           visit (b);
   }
 
   const Points3& points_;
   const Triangles& triangles_;
-  double inverse_cell_;
+  GridFrame frame_;
   std::unordered_map<std::uint64_t, std::int32_t> blocks_; // kept block -> its table
   std::vector<Cell> block_origins_;                        // block coordinates per table
   std::vector<std::int32_t> cell_of_;                      // the tables: cell ids or -1
@@ -441,8 +402,7 @@ private:
     * entered later are in cells_[id]. */
   std::vector<std::uint32_t> initial_start_;
   std::vector<std::int32_t> initial_slots_;
-  mutable std::vector<std::uint32_t> mark_;
-  mutable std::uint32_t stamp_ = 0;
+  mutable VisitStamps visits_;
 };
 
 class FoldRepair
@@ -458,7 +418,7 @@ public:
   , triangles_ (triangles)
   , neighbours_ (options.neighbours)
   , normals_ (options.normals)
-  , grid_ (points, triangles, cell, seeds, 8)
+  , grid_ (points, triangles, cell, seeds, 8, threadCount (options.num_threads))
   , pairs_of_ (triangles.size (), 0)
   , rewritten_ (options.rewritten && options.rewritten->size () == triangles.size () ? options.rewritten
                                                                                       : nullptr)
@@ -503,8 +463,7 @@ public:
         triangles_, [this] (pcl::index_t v) { return star (v); }, inner, max_triangles);
     // Nothing to gain where no triangle of the disc is in a pair (the other
     // vertices of a fold once one disc has opened it, and the larger discs around
-    // them: on the 1M armadillo 10,517 of 12,091 discs tried); the exact count
-    // below would find none.
+    // them: most discs tried); the exact count below would find none.
     if (slots.empty () ||
         std::all_of (slots.begin (), slots.end (), [this] (std::int32_t t) { return pairs_of_[t] == 0; }))
       return 0;
@@ -573,8 +532,8 @@ public:
     };
 
     // Nothing to gain where the disc's triangles intersect nothing (the other
-    // vertices of a fold once one disc has opened it: on the 1M armadillo most of
-    // the tries) or where their pairs cannot be counted; no re-meshing is built.
+    // vertices of a fold once one disc has opened it: most of the tries) or where
+    // their pairs cannot be counted; no re-meshing is built.
     PairList old_pairs, new_pairs, candidate_pairs;
     const std::size_t before = pairsOf (slots, nullptr, &old_pairs);
     if (before == 0 || before == unknown)
@@ -765,7 +724,7 @@ public:
     const Points2 circle = circleBoundary (points_, loop);
     // Sparse (a few neighbours per row): closed discs on thin parts reach a few
     // hundred unknowns, whose dense LU Eigen spread over OpenMP threads that mostly
-    // waited (cow_igl: 4.7 s of CPU for 3.2 s of wall time, sparse 3.5 for 3.3).
+    // waited.
     std::vector<Eigen::Triplet<double>> entries;
     Eigen::MatrixX2d rhs = Eigen::MatrixX2d::Zero (ni, 2);
     for (std::size_t i = 0; i < ni; ++i) {
@@ -1073,8 +1032,7 @@ private:
       return replacement ? (*replacement)[i] : triangles_[slots[i]];
     };
     // Triangles that meet have overlapping boxes: the exact test only for those
-    // (a disc of two rings has thousands of pairs, nearly all apart; measured on
-    // the 1M armadillo's raw repair: 2.7 -> 2.4 s).
+    // (a disc of two rings has thousands of pairs, nearly all apart).
     box_lo_.resize (slots.size ());
     box_hi_.resize (slots.size ());
     for (std::size_t i = 0; i < slots.size (); ++i)
@@ -1155,8 +1113,7 @@ closedDiscRegion (const Triangles& triangles,
     if (slots.size () > max_triangles || slots.size () < 4)
       return {};
     // Sorted arrays rather than a set and a map: a repair tries thousands of
-    // regions, most of which it then leaves alone (the 1M armadillo's raw repair:
-    // 9,764, of which 1,173 hold a pair; there this function took 0.19 -> 0.11 s).
+    // regions, most of which it then leaves alone.
     directed.clear ();
     for (const std::int32_t t : slots)
       for (int k = 0; k < 3; ++k)
@@ -1306,9 +1263,7 @@ repairFoldsByReinsertion (const Points3& points,
     };
     auto swaps = [&] (pcl::index_t v) { return repair.trySwaps (v, options.max_swaps_in_a_row); };
     // Discs first, then swaps where pairs are left (interleaved, a swap can take
-    // a disc's chance away: a 1:1:20 ellipsoid, 0 pairs with discs first, 4
-    // interleaved); and again, as each opens folds for the other (bunny_igl: 34 ->
-    // 23 pairs after one pass, 20 after two).
+    // a disc's chance away); and again, as each opens folds for the other.
     for (int pass = 0; pass < options.max_passes && result.pairs_after > 0; ++pass) {
       const std::size_t at_start = result.pairs_after;
       rounds (pass == 0 ? candidates : stillIntersecting (), disc, result.regions_remeshed);

@@ -8,9 +8,10 @@
 
 #include <Eigen/Geometry>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "common/constants.h"
+#include "common/half_edges.h"
+#include "common/threads.h"
+#include "common/union_find.h"
 
 #include <algorithm>
 #include <array>
@@ -30,8 +31,6 @@ namespace meshless {
 namespace {
 
 using Vector3 = Eigen::Vector3d;
-
-constexpr double pi = 3.14159265358979323846;
 
 // ---------------------------------------------------------------------------
 // Broad phase: a bounding-volume hierarchy over the faces in Morton order.
@@ -82,8 +81,7 @@ merge (const Box& a, const Box& b)
   * walking pairs of nodes (a node with itself, then its children against each
   * other) rather than one query per box from the root: on a surface mesh nearly
   * all the nodes a box's own query visits are its ancestors and their siblings,
-  * which each pair walk visits once (measured on the 1M armadillo's mesh, 2 million
-  * triangles: 1.1 -> 0.77 s for the search, checkMesh 1.41 -> 1.10 s). */
+  * which each pair walk visits once. */
 class BoxTree
 {
 public:
@@ -252,47 +250,6 @@ private:
 // ---------------------------------------------------------------------------
 // Topology.
 
-/** Union-find with path halving. The smaller index becomes the root, so a set's root
-  * is its smallest member whatever the order of the unions. */
-class DisjointSets
-{
-public:
-  explicit DisjointSets (std::size_t n) : parent_ (n, 0u)
-  {
-    std::iota (parent_.begin (), parent_.end (), 0u);
-  }
-
-  std::uint32_t
-  find (std::uint32_t x)
-  {
-    while (parent_[x] != x) {
-      parent_[x] = parent_[parent_[x]];
-      x = parent_[x];
-    }
-    return x;
-  }
-
-  void
-  unite (std::uint32_t a, std::uint32_t b)
-  {
-    a = find (a);
-    b = find (b);
-    if (a < b)
-      parent_[b] = a;
-    else if (b < a)
-      parent_[a] = b;
-  }
-
-  bool
-  isRoot (std::uint32_t x) const
-  {
-    return parent_[x] == x;
-  }
-
-private:
-  std::vector<std::uint32_t> parent_;
-};
-
 enum class TriangleKind {
   Invalid,       // an index out of range
   RepeatedIndex, // in range, but not three distinct vertices
@@ -310,14 +267,6 @@ classify (const Triangle& t, std::size_t num_vertices)
   return TriangleKind::Face;
 }
 
-/** Half-edge id 3 * t + j: the edge of triangle t from corner j to corner j + 1. */
-struct HalfEdge
-{
-  /** The larger vertex index of the edge; the smaller one is the bucket. */
-  std::uint32_t high;
-  std::uint32_t id;
-};
-
 class Topology
 {
 public:
@@ -330,7 +279,7 @@ public:
   run ()
   {
     std::vector<char> used (n_, 0);
-    DisjointSets components (n_);
+    DisjointSets<std::uint32_t> components (n_);
     for (std::size_t t = 0; t < triangles_.size (); ++t) {
       const Triangle& tri = triangles_[t];
       switch (classify (tri, n_)) {
@@ -344,8 +293,8 @@ public:
         ++report_.num_faces;
         for (pcl::index_t v : tri)
           used[v] = 1;
-        components.unite (tri[0], tri[1]);
-        components.unite (tri[1], tri[2]);
+        components.join (tri[0], tri[1]);
+        components.join (tri[1], tri[2]);
         break;
       }
     }
@@ -390,75 +339,53 @@ private:
     return from (id) == x ? id : id - id % 3 + (id % 3 + 1) % 3;
   }
 
-  /** Groups the half-edges by undirected edge (a bucket per smaller vertex, sorted by
-    * larger vertex, then by opposite vertex so that duplicate faces are adjacent) and
-    * derives every edge-based count from the groups. */
+  /** Groups the half-edges of the faces by undirected edge and derives every
+    * edge-based count from the groups. */
   void
   scanEdges ()
   {
-    std::vector<std::uint32_t> offsets (n_ + 1, 0);
-    for (const Triangle& tri : triangles_)
-      if (classify (tri, n_) == TriangleKind::Face)
-        for (int j = 0; j < 3; ++j)
-          ++offsets[std::min (tri[j], tri[(j + 1) % 3]) + 1];
-    std::partial_sum (offsets.begin (), offsets.end (), offsets.begin ());
-    std::vector<HalfEdge> edges (offsets[n_]);
-    {
-      std::vector<std::uint32_t> fill (offsets.begin (), offsets.end () - 1);
-      for (std::size_t t = 0; t < triangles_.size (); ++t) {
-        const Triangle& tri = triangles_[t];
-        if (classify (tri, n_) != TriangleKind::Face)
-          continue;
-        for (int j = 0; j < 3; ++j) {
-          const auto a = static_cast<std::uint32_t> (tri[j]);
-          const auto b = static_cast<std::uint32_t> (tri[(j + 1) % 3]);
-          edges[fill[std::min (a, b)]++] = {std::max (a, b),
-                                            static_cast<std::uint32_t> (3 * t + j)};
-        }
-      }
-    }
-
-    DisjointSets corners (3 * triangles_.size ()); // joined across manifold edges
-    DisjointSets boundary (n_);                    // joined along boundary edges
+    const HalfEdgeGroups groups = groupHalfEdges (
+        triangles_, n_, [this] (std::size_t t) { return classify (triangles_[t], n_) == TriangleKind::Face; });
+    DisjointSets<std::uint32_t> corners (3 * triangles_.size ()); // joined across manifold edges
+    DisjointSets<std::uint32_t> boundary (n_);                    // joined along boundary edges
     std::vector<char> on_boundary (n_, 0), on_non_manifold_edge (n_, 0);
-    for (std::uint32_t low = 0; low < n_; ++low) {
-      HalfEdge* const first = edges.data () + offsets[low];
-      HalfEdge* const last = edges.data () + offsets[low + 1];
-      std::sort (first, last, [this] (const HalfEdge& x, const HalfEdge& y) {
-        if (x.high != y.high)
-          return x.high < y.high;
-        return opposite (x.id) < opposite (y.id);
-      });
-      for (HalfEdge* run = first; run != last;) {
-        const std::uint32_t high = run->high;
-        HalfEdge* run_end = run;
-        while (run_end != last && run_end->high == high)
-          ++run_end;
-        ++report_.num_edges;
-        const std::size_t uses = static_cast<std::size_t> (run_end - run);
-        if (uses == 1) {
-          ++report_.boundary_edges;
-          boundary.unite (low, high);
-          on_boundary[low] = on_boundary[high] = 1;
-        }
-        else if (uses == 2) {
-          if ((from (run[0].id) == low) == (from (run[1].id) == low))
-            ++report_.inconsistent_edges;
-          corners.unite (corner (run[0].id, low), corner (run[1].id, low));
-          corners.unite (corner (run[0].id, high), corner (run[1].id, high));
-        }
-        else {
-          ++report_.non_manifold_edges;
-          on_non_manifold_edge[low] = on_non_manifold_edge[high] = 1;
-        }
+    std::vector<std::uint32_t> apexes; // of a non-manifold edge's triangles
+    forEachEdge (groups, [&] (std::size_t smaller, const HalfEdgeGroups::Entry* run,
+                              const HalfEdgeGroups::Entry* run_end) {
+      const auto low = static_cast<std::uint32_t> (smaller);
+      const auto high = static_cast<std::uint32_t> (run->first);
+      const auto id = [] (const HalfEdgeGroups::Entry* e) { return static_cast<std::uint32_t> (e->second); };
+      ++report_.num_edges;
+      const std::size_t uses = static_cast<std::size_t> (run_end - run);
+      if (uses == 1) {
+        ++report_.boundary_edges;
+        boundary.join (low, high);
+        on_boundary[low] = on_boundary[high] = 1;
+      }
+      else if (uses == 2) {
+        if ((from (id (run)) == low) == (from (id (run + 1)) == low))
+          ++report_.inconsistent_edges;
+        corners.join (corner (id (run), low), corner (id (run + 1), low));
+        corners.join (corner (id (run), high), corner (id (run + 1), high));
         // A face is counted as a duplicate once, in the group of its two smallest
         // vertices (there its opposite vertex is above `high`).
-        for (HalfEdge* e = run; e + 1 != run_end; ++e)
-          if (opposite (e->id) > high && opposite (e->id) == opposite (e[1].id))
-            ++report_.duplicate_triangles;
-        run = run_end;
+        const std::uint32_t apex = opposite (id (run));
+        if (apex > high && apex == opposite (id (run + 1)))
+          ++report_.duplicate_triangles;
       }
-    }
+      else {
+        ++report_.non_manifold_edges;
+        on_non_manifold_edge[low] = on_non_manifold_edge[high] = 1;
+        // The same count; the opposite vertices sorted put duplicates side by side.
+        apexes.clear ();
+        for (const HalfEdgeGroups::Entry* e = run; e != run_end; ++e)
+          apexes.push_back (opposite (id (e)));
+        std::sort (apexes.begin (), apexes.end ());
+        for (std::size_t k = 0; k + 1 < apexes.size (); ++k)
+          if (apexes[k] > high && apexes[k] == apexes[k + 1])
+            ++report_.duplicate_triangles;
+      }
+    });
 
     for (std::uint32_t v = 0; v < n_; ++v)
       if (on_boundary[v] && boundary.isRoot (v))
@@ -484,26 +411,6 @@ private:
 
 // ---------------------------------------------------------------------------
 // Geometry.
-
-int
-threadCount (const MeshCheckOptions& options)
-{
-#ifdef _OPENMP
-  return options.num_threads > 0 ? options.num_threads : omp_get_max_threads ();
-#else
-  return 1;
-#endif
-}
-
-int
-threadIndex ()
-{
-#ifdef _OPENMP
-  return omp_get_thread_num ();
-#else
-  return 0;
-#endif
-}
 
 /** Calls body (begin, end, thread) on the ranges [k * grain, (k + 1) * grain) covering
   * [0, n), in parallel if there is more than one (a team costs more than a small mesh,
@@ -584,7 +491,7 @@ public:
             const MeshCheckOptions& options,
             MeshReport& report)
     : vertices_ (vertices), triangles_ (triangles), options_ (options),
-      report_ (report), threads_ (threadCount (options))
+      report_ (report), threads_ (threadCount (options.num_threads))
   {
   }
 
@@ -841,8 +748,9 @@ checkMesh (const Points3& vertices,
   MeshReport report;
   report.num_vertices = vertices.size ();
   report.num_triangles = triangles.size ();
-  // Vertex, half-edge and corner ids are 32-bit to halve the memory traffic.
-  constexpr std::size_t id_limit = std::numeric_limits<std::uint32_t>::max ();
+  // Vertex, half-edge and corner ids are 32-bit to halve the memory traffic (the
+  // half-edge groups number half-edges with signed 32-bit ids).
+  constexpr std::size_t id_limit = std::numeric_limits<std::int32_t>::max ();
   if (vertices.size () >= id_limit || triangles.size () >= id_limit / 3) {
     report.message = "mesh too large for 32-bit half-edge ids";
     return report;
@@ -850,12 +758,11 @@ checkMesh (const Points3& vertices,
   try {
     // The topology is one serial pass, and the geometry builds its box tree
     // serially before its parallel search: on large meshes the two run side by
-    // side, each into its own report (measured on the 1M armadillo's mesh, 2M
-    // triangles: checkMesh 1.10 -> 0.9-1.0 s; in the class, each check 0.15 s less).
+    // side, each into its own report.
     MeshReport geometry = report;
     std::thread topology;
     std::exception_ptr topology_failure;
-    if (threadCount (options) > 1 && triangles.size () >= concurrent_from) {
+    if (threadCount (options.num_threads) > 1 && triangles.size () >= concurrent_from) {
       try {
         topology = std::thread ([&] {
           try {

@@ -4,13 +4,15 @@
  */
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 
+#include "common/threads.h"
+
 #include <algorithm>
 
 namespace pcl {
 namespace meshless {
 
 CsrGraph
-symmetricGraph (const CsrGraph& neighbourhoods)
+symmetricGraph (const CsrGraph& neighbourhoods, int num_threads)
 {
   const std::size_t n = neighbourhoods.size ();
   CsrGraph graph;
@@ -38,12 +40,12 @@ symmetricGraph (const CsrGraph& neighbourhoods)
         entries[filled[*w]++] = static_cast<pcl::index_t> (v);
       }
 
-  // Rows sorted and de-duplicated in place in parallel (they are independent;
-  // serial, the sorts were most of the graph stage on a million points), then
-  // packed.
+  // Rows sorted and de-duplicated in place in parallel (they are independent, and
+  // serial sorts are most of this function's time on large clouds), then packed.
   graph.offsets.assign (n + 1, 0);
   const auto rows = static_cast<std::ptrdiff_t> (n);
-#pragma omp parallel for schedule(static, 4096) if (rows >= 50000)
+  const int threads = threadCount (num_threads);
+#pragma omp parallel for schedule(static, 4096) num_threads(threads) if (rows >= 50000)
   for (std::ptrdiff_t v = 0; v < rows; ++v) {
     const auto first = entries.begin () + count[v];
     const auto last = entries.begin () + count[v + 1];
@@ -53,35 +55,11 @@ symmetricGraph (const CsrGraph& neighbourhoods)
   for (std::size_t v = 0; v < n; ++v)
     graph.offsets[v + 1] += graph.offsets[v];
   graph.adjacency.resize (static_cast<std::size_t> (graph.offsets[n]));
-#pragma omp parallel for schedule(static, 4096) if (rows >= 50000)
+#pragma omp parallel for schedule(static, 4096) num_threads(threads) if (rows >= 50000)
   for (std::ptrdiff_t v = 0; v < rows; ++v)
     std::copy_n (entries.begin () + count[v], graph.offsets[v + 1] - graph.offsets[v],
                  graph.adjacency.begin () + graph.offsets[v]);
   return graph;
-}
-
-HalfEdgeGroups
-groupHalfEdges (const Triangles& triangles, std::size_t n)
-{
-  HalfEdgeGroups groups;
-  groups.start.assign (n + 1, 0);
-  for (const Triangle& t : triangles)
-    for (int j = 0; j < 3; ++j)
-      ++groups.start[std::min (t[j], t[(j + 1) % 3]) + 1];
-  for (std::size_t v = 0; v < n; ++v)
-    groups.start[v + 1] += groups.start[v];
-  groups.ends.resize (groups.start[n]);
-  {
-    std::vector<std::uint32_t> fill (groups.start.begin (), groups.start.end () - 1);
-    for (std::size_t t = 0; t < triangles.size (); ++t)
-      for (int j = 0; j < 3; ++j) {
-        const pcl::index_t a = triangles[t][j], b = triangles[t][(j + 1) % 3];
-        groups.ends[fill[std::min (a, b)]++] = {std::max (a, b), static_cast<std::int32_t> (3 * t + j)};
-      }
-  }
-  for (std::size_t v = 0; v < n; ++v)
-    std::sort (groups.ends.begin () + groups.start[v], groups.ends.begin () + groups.start[v + 1]);
-  return groups;
 }
 
 CsrGraph

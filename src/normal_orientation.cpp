@@ -35,8 +35,8 @@ confidence (const Points3& points, const std::vector<Eigen::Vector3f>& normals, 
 }
 
 /** Revises the signs `flip` that the spanning tree gave: one edge of the tree
-  * decides a whole part, and on a limb a few points around (cow_igl's legs and
-  * horns) that edge may cross the limb, turning everything beyond it inwards.
+  * decides a whole part, and on a limb a few points around (legs, horns) that edge
+  * may cross the limb, turning everything beyond it inwards.
   * Points joined by confident edges whose signs agree form regions; between two
   * regions every graph edge votes, weighted by its confidence (at least
   * evidence_floor), for the same or the opposite sign; from each component's largest
@@ -137,8 +137,7 @@ settleRegionsByConsensus (const Points3& points,
   * pop is the largest (confidence, from, to) over the points not yet oriented. A
   * heap of every edge offered, stale ones skipped when popped, makes the same
   * choices (per point it holds the same best edge) but grows to millions of edges
-  * on a million points: on armadillo_uniform_1m its sifts missed the cache, and the
-  * whole orientation took 1.0 s, with this heap 0.6-0.8 s (same flips). */
+  * on a million points, where its sifts miss the cache (same flips, slower). */
 class FrontierHeap
 {
 public:

@@ -5,6 +5,9 @@
 #include <pcl/features/feature.h> // pcl::solvePlaneParameters
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
 
+#include "common/constants.h"
+#include "common/threads.h"
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -14,8 +17,6 @@ namespace pcl {
 namespace meshless {
 
 namespace {
-
-constexpr double two_pi = 6.283185307179586476925286766559;
 
 /** A right-handed orthonormal frame (e1, e2, n) chosen from n alone, so that the
   * same normal always gives the same frame. */
@@ -112,11 +113,11 @@ delaunayRing (const Points2& local, std::vector<int>& ring)
   // polar set of K = conv({0} and all p_j); a half plane bounds the cell along an
   // edge of positive length iff its p_j is a vertex of K other than the origin. So
   // the ring is K's vertex set, found by a monotone-chain hull in O(d log d) instead
-  // of clipping each bisector by every other half plane in O(d^2) (the rings of the
-  // 1M armadillo took 1.7 s of processor time that way). A point hidden behind a
-  // nearer one in the same direction lies on [0, p_j]; a co-circular fourth point
-  // (a zero-length Voronoi edge) on a hull edge: neither is a vertex. Of points at
-  // the same place only one can be.
+  // of clipping each bisector by every other half plane in O(d^2), which dominated
+  // the rings' time on large clouds. A point hidden behind a nearer one in the same
+  // direction lies on [0, p_j]; a co-circular fourth point (a zero-length Voronoi
+  // edge) on a hull edge: neither is a vertex. Of points at the same place only one
+  // can be.
   struct Polar
   {
     Eigen::Vector2d p;
@@ -196,7 +197,7 @@ orderNeighbourhoods (const Points3& points,
   std::vector<pcl::index_t> slots (candidates.numEntries ());
   std::vector<pcl::index_t> ring_size (n, 0);
 
-#pragma omp parallel
+#pragma omp parallel num_threads(threadCount (options.num_threads))
   {
     Points2 local;
     std::vector<int> ring;

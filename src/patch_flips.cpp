@@ -8,6 +8,9 @@
 
 #include <Eigen/Geometry>
 
+#include "common/constants.h"
+#include "common/half_edges.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
@@ -29,37 +32,10 @@ flipFlatEdgesInPatch (const Points3& points,
     for (const pcl::index_t v : t)
       if (v < 0 || static_cast<std::size_t> (v) >= m)
         return 0; // outside the contract: left as it is
-  // Twins of the half-edges (3 t + j runs from corner j to corner j + 1), -1 on
-  // the boundary: the twin of a->b is among the half-edges leaving b. (groupHalfEdges
-  // keeps 8 bytes per half-edge where this keeps 4, and memory counts here: the
-  // flips run beside another patch's factorization, the peak of large clouds.)
+  // Twins of the half-edges, -1 on the boundary, in the compact form: the flips run
+  // beside another patch's factorization, the peak of large clouds.
   const auto T = static_cast<std::int32_t> (triangles.size ());
-  std::vector<std::int32_t> twin (3 * triangles.size (), -1);
-  {
-    std::vector<std::int32_t> first (m + 1, 0);
-    for (const Triangle& t : triangles)
-      for (const pcl::index_t v : t)
-        ++first[v + 1];
-    for (std::size_t v = 0; v < m; ++v)
-      first[v + 1] += first[v];
-    std::vector<std::int32_t> leaving (3 * triangles.size ());
-    {
-      std::vector<std::int32_t> fill (first.begin (), first.end () - 1);
-      for (std::int32_t h = 0; h < 3 * T; ++h)
-        leaving[fill[triangles[h / 3][h % 3]]++] = h;
-    }
-    for (std::int32_t h = 0; h < 3 * T; ++h) {
-      const pcl::index_t a = triangles[h / 3][h % 3], b = triangles[h / 3][(h + 1) % 3];
-      for (std::int32_t k = first[b]; k < first[b + 1]; ++k) {
-        const std::int32_t g = leaving[k];
-        if (triangles[g / 3][(g + 1) % 3] == a) {
-          twin[h] = g;
-          break;
-        }
-      }
-    }
-  }
-  constexpr double pi = 3.14159265358979323846;
+  std::vector<std::int32_t> twin = halfEdgeTwins (triangles, m);
   const double cos_flat = std::cos (options.max_dihedral_deg * pi / 180.0);
   const double cos_fold = std::cos (std::clamp (options.max_fold_angle_deg, 0.0, 180.0) * pi / 180.0);
   const auto P = [&] (pcl::index_t local) -> const Eigen::Vector3d& { return points[global_of[local]]; };

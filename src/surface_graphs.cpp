@@ -50,7 +50,10 @@ graphWithoutThinPartEdges (const SurfaceGraphs& surface, std::vector<pcl::index_
   * the rings again on the rest (see buildSurfaceGraphs); leaves everything as it
   * is if that would disconnect the graph. */
 void
-separateThinSheets (const Points3& points, std::vector<pcl::index_t>& component, SurfaceGraphs& surface)
+separateThinSheets (const Points3& points,
+                    std::vector<pcl::index_t>& component,
+                    const OrderingOptions& ordering,
+                    SurfaceGraphs& surface)
 {
   std::size_t dropped = 0;
   CsrGraph kept = graphWithoutThinPartEdges (surface, component, dropped);
@@ -58,7 +61,7 @@ separateThinSheets (const Points3& points, std::vector<pcl::index_t>& component,
     return;
   surface.sheet_edges_dropped = dropped;
   surface.graph = std::move (kept);
-  surface.ordered = orderNeighbourhoods (points, surface.graph);
+  surface.ordered = orderNeighbourhoods (points, surface.graph, ordering);
   if (!surface.ordered.success)
     return;
   surface.mutual = mutualRingGraph (surface.ordered.rings);
@@ -70,9 +73,8 @@ separateThinSheets (const Points3& points, std::vector<pcl::index_t>& component,
 SurfaceGraphs
 buildSurfaceGraphs (const Points3& points,
                     const CsrGraph& neighbourhoods,
-                    WeightType weights,
-                    const SurfaceStageDone& done,
-                    bool separate_thin_sheets)
+                    const SurfaceGraphOptions& options,
+                    const SurfaceStageDone& done)
 {
   SurfaceGraphs result;
   auto report = [&] (const std::string& stage, const std::string& detail) {
@@ -82,7 +84,13 @@ buildSurfaceGraphs (const Points3& points,
     return false;
   };
 
-  result.graph = symmetricGraph (neighbourhoods);
+  OrderingOptions ordering;
+  ordering.num_threads = options.num_threads;
+  WeightOptions weighting;
+  weighting.type = options.weights;
+  weighting.num_threads = options.num_threads;
+
+  result.graph = symmetricGraph (neighbourhoods, options.num_threads);
   std::vector<pcl::index_t> component;
   if (connectedComponents (result.graph, component) != 1) {
     result.message = "the neighbourhood graph is disconnected (several objects, outliers, "
@@ -92,7 +100,7 @@ buildSurfaceGraphs (const Points3& points,
   if (!report ("graph", std::to_string (result.graph.numEntries () / 2) + " edges"))
     return result;
 
-  result.ordered = orderNeighbourhoods (points, result.graph);
+  result.ordered = orderNeighbourhoods (points, result.graph, ordering);
   if (!result.ordered.success) {
     result.message = result.ordered.message;
     return result;
@@ -105,8 +113,9 @@ buildSurfaceGraphs (const Points3& points,
     return result;
   }
   result.normals_flipped = orientation.num_flipped;
+  const bool separate_thin_sheets = options.separate_thin_sheets;
   if (separate_thin_sheets)
-    separateThinSheets (points, component, result);
+    separateThinSheets (points, component, ordering, result);
   else
     graphWithoutThinPartEdges (result, component, result.sheet_edges_droppable);
   if (!result.ordered.success) {
@@ -120,7 +129,7 @@ buildSurfaceGraphs (const Points3& points,
     return result;
 
   result.weights = computeWeights (points, result.ordered.rings, result.graph,
-                                   result.ordered.normals, {weights});
+                                   result.ordered.normals, weighting);
   if (!result.weights.success) {
     result.message = result.weights.message;
     return result;

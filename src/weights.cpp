@@ -4,6 +4,8 @@
  */
 #include <pcl/surface/meshless/weights.h>
 
+#include "common/threads.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -178,7 +180,7 @@ computeWeights (const Points3& points,
   std::vector<double> slot_values (slot[n]);
   std::vector<char> uses_ring (n, 0);
   std::size_t fallbacks = 0;
-#pragma omp parallel reduction(+ : fallbacks)
+#pragma omp parallel num_threads(threadCount (options.num_threads)) reduction(+ : fallbacks)
   {
     Points2 local;
     std::vector<double> lambda;

@@ -289,30 +289,3 @@ TEST (NeighbourhoodGraph, KAndCapUpToIntMaxGiveEveryOtherPoint)
   for (std::size_t v = 0; v < 30; ++v)
     EXPECT_EQ (result.neighbours.degree (v), 29);
 }
-
-TEST (NeighbourhoodGraph, HalfEdgesGroupedBySmallerVertexInEdgeOrder)
-{
-  // A tetrahedron: 12 half-edges, each of its 6 edges twice, once each way.
-  const Triangles tetrahedron = {{0, 1, 2}, {0, 3, 1}, {1, 3, 2}, {0, 2, 3}};
-  const HalfEdgeGroups groups = groupHalfEdges (tetrahedron, 4);
-  ASSERT_EQ (groups.start.size (), 5u);
-  ASSERT_EQ (groups.ends.size (), 12u);
-  EXPECT_EQ (groups.start[4], 12u);
-  std::vector<int> seen (12, 0);
-  for (std::size_t v = 0; v < 4; ++v)
-    for (std::uint32_t k = groups.start[v]; k < groups.start[v + 1]; ++k) {
-      const auto [larger, h] = groups.ends[k];
-      const Triangle& t = tetrahedron[h / 3];
-      const pcl::index_t a = t[h % 3], b = t[(h % 3 + 1) % 3];
-      EXPECT_EQ (std::min (a, b), static_cast<pcl::index_t> (v));
-      EXPECT_EQ (std::max (a, b), larger);
-      if (k > groups.start[v])
-        EXPECT_LT (groups.ends[k - 1], groups.ends[k]); // sorted, each once
-      ++seen[h];
-    }
-  for (int count : seen)
-    EXPECT_EQ (count, 1);
-  // The two half-edges of an edge are adjacent: vertex 0 has edges to 1, 2, 3.
-  EXPECT_EQ (groups.start[1] - groups.start[0], 6u);
-  EXPECT_EQ (groups.ends[0].first, groups.ends[1].first);
-}

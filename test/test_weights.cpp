@@ -135,6 +135,29 @@ TEST (Weights, EveryTypeGivesConvexCombinationsOnASphere)
   }
 }
 
+TEST (Weights, RingsAndWeightsDoNotDependOnTheThreadCount)
+{
+  const Points3 points = sampleShape (SyntheticShape::BumpySphere, {3000, 8, 0.0});
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+  OrderingOptions one_thread, three_threads;
+  one_thread.num_threads = 1;
+  three_threads.num_threads = 3;
+  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph, one_thread);
+  const OrderedNeighbourhoods again = orderNeighbourhoods (points, graph, three_threads);
+  ASSERT_TRUE (ordered.success && again.success);
+  EXPECT_EQ (ordered.rings.offsets, again.rings.offsets);
+  EXPECT_EQ (ordered.rings.adjacency, again.rings.adjacency);
+  EXPECT_EQ (ordered.normals, again.normals);
+  WeightOptions serial, parallel;
+  serial.num_threads = 1;
+  parallel.num_threads = 3;
+  const Weights weights = computeWeights (points, ordered.rings, graph, ordered.normals, serial);
+  const Weights same = computeWeights (points, ordered.rings, graph, ordered.normals, parallel);
+  ASSERT_TRUE (weights.success && same.success);
+  EXPECT_EQ (weights.neighbours.adjacency, same.neighbours.adjacency);
+  EXPECT_EQ (weights.values, same.values);
+}
+
 TEST (Weights, ReciprocalDistanceIsInverselyProportionalToDistance)
 {
   const Points3 points = {{0, 0, 0}, {1, 0, 0}, {0, 2, 0}, {0, 0, 4}};

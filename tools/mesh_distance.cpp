@@ -6,9 +6,8 @@
 
 #include <Eigen/Geometry>
 
-#ifdef _OPENMP
-#include <omp.h>
-#endif
+#include "common/constants.h"
+#include "common/threads.h"
 
 #include <algorithm>
 #include <array>
@@ -24,7 +23,6 @@ namespace {
 
 using Vector3 = Eigen::Vector3d;
 
-constexpr double pi = 3.14159265358979323846;
 constexpr std::uint32_t leaf_size = 4;
 
 Vector3
@@ -53,16 +51,6 @@ Vector3
 areaVector (const Points3& vertices, const Triangle& t)
 {
   return (vertices[t[1]] - vertices[t[0]]).cross (vertices[t[2]] - vertices[t[0]]);
-}
-
-int
-threadCount (int requested)
-{
-#ifdef _OPENMP
-  return requested > 0 ? requested : omp_get_max_threads ();
-#else
-  return 1;
-#endif
 }
 
 /** Uniform double in [0, 1) from the top 53 bits, so the samples do not depend on

@@ -157,8 +157,8 @@ matchVerticesByPosition (const Points3& vertices, const Points3& reference_verti
 struct EdgeComparisonOptions
 {
   /** \brief Default: 30. A reference edge is sharp when the normals of its two
-    * triangles turn by more than this angle (degrees): fandisk's feature lines turn by
-    * 45 to 90 degrees, its smooth parts by a few. */
+    * triangles turn by more than this angle (degrees): the feature lines of machined
+    * parts turn by 45 to 90 degrees, their smooth parts by a few. */
   double sharp_angle_deg = 30.0;
 };
 

@@ -41,13 +41,11 @@ constexpr std::size_t points_per_base_face_by_size = 125000;
   *
   * The tetrahedron's four patches make four sparse systems whose LU factors grow
   * faster than the points (fill of a planar graph's elimination) and are solved two
-  * at a time: measured on one million points (Z-ordered), the octahedron's eight
-  * patches took peak memory 1.70 -> 1.36 GB on armadillo_uniform_1m (largest patch
-  * 431,112 -> 270,946 points, 20.3 -> 19.4 s) and 1.90 -> 1.05 GB on a bumpy sphere
-  * (17.1 -> 15.2 s). Below 500,000 points the tetrahedron, the paper's choice,
-  * stays: its fewer corners meet fewer thin parts (the icosahedron's paths found no
-  * room on armadillo_uniform_1m, the octahedron's on the raw scans' first layouts).
-  * Not the icosahedron: its twelve corners include limb tips on shapes with limbs. */
+  * at a time: on large clouds the octahedron's eight smaller patches lower the peak
+  * memory by a fifth or more and are no slower. Below 500,000 points the
+  * tetrahedron, the paper's choice, stays: its fewer corners meet fewer thin parts.
+  * Not the icosahedron: its twelve corners include limb tips on shapes with limbs,
+  * where its paths find no room. */
 BasePolyhedron
 polyhedronForSize (BasePolyhedron polyhedron, std::size_t n);
 

@@ -37,18 +37,11 @@ enum class SwapCost
 
 struct EdgeSwapOptions
 {
-  /** \brief Default: IntegratedMeanCurvature. Measured on the raw reconstructions of
-    * bunny, fandisk, spot and armadillo (3k to 43k points): it and
-    * TotalAbsoluteCurvature leave the fewest self-intersecting pairs (0 on fandisk and
-    * spot, about 5% of the input's on armadillo) and the best angles (share of
-    * triangles below 10 degrees about halved except on the already clean fandisk, where
-    * ABN triples it and SquaredMeanCurvature makes it 26%). Measured again with the
-    * other defaults below (pcl_optimization_report on fandisk, armadillo_igl,
-    * bunny_igl, horse, armadillo_noisy_100k): the lowest normal deviation on four of
-    * the five clouds (SquaredMeanCurvature on armadillo_igl, 1.21 against 1.29
-    * degrees); ABN the worst (horse 1.43 against 1.15 degrees). Being a sum over edges,
-    * (3/2) |e| beta_e, it runs as fast as ABN and can be priced in parallel; the two
-    * other vertex costs need whole fans per candidate swap. */
+  /** \brief Default: IntegratedMeanCurvature. With TotalAbsoluteCurvature it leaves
+    * the fewest self-intersecting pairs and the best angles; of the two it has the
+    * lower normal deviation, and being a sum over edges, (3/2) |e| beta_e, it is
+    * priced as fast as ABN and in parallel, where the other vertex costs need whole
+    * fans per candidate swap. ABN keeps the most slivers. */
   SwapCost cost = SwapCost::IntegratedMeanCurvature;
   /** \brief Default: 90. Fold bound, in degrees. Swapping edge a-b of the triangles
     * (a, b, c), (b, a, d) gives (a, d, c), (d, b, c); the swap is rejected when the
@@ -73,27 +66,25 @@ struct EdgeSwapOptions
   bool remove_self_intersections = true;
   /** \brief Default: false. True where the caller knows that the input has no
     * intersecting pair (checkMesh listed every pair and a repair removed them all):
-    * the first count, a full check of the mesh, is skipped and taken as 0 (1M
-    * points: 0.5 s). A wrong true cannot break the mesh's structure, but pairs
-    * the optimizer would have counted are then neither avoided nor removed: the
-    * caller's own check must still look at the result. */
+    * the first count, a full check of the mesh, is skipped and taken as 0. A wrong
+    * true cannot break the mesh's structure, but pairs the optimizer would have
+    * counted are then neither avoided nor removed: the caller's own check must still
+    * look at the result. */
   bool input_free_of_intersections = false;
   /** \brief Default: true. Renumbers the vertices in the order the triangles first
     * use them, on a copy of the points, so that neighbours sit close in memory
-    * (every step reads the points of a neighbourhood): on points in random order
-    * (armadillo_uniform_1m's) the optimizer took 30% less time. False where the
-    * points are in a spatially coherent order already (the class numbers them along
-    * a Z-order curve): the copies of the points and the triangles are skipped (1M
-    * points: 56 MB less at the stage's peak, and no slower: 3.06 -> 2.86 s with
-    * one thread), the swaps work on the caller's triangles. A mesh that leaves
-    * vertices unused is renumbered all the same. The result depends on the
+    * (every step reads the points of a neighbourhood); this pays on points in random
+    * order. False where the points are in a spatially coherent order already (the
+    * class numbers them along a Z-order curve): the copies of the points and the
+    * triangles are skipped, and the swaps work on the caller's triangles. A mesh that
+    * leaves vertices unused is renumbered all the same. The result depends on the
     * numbering only in which of equally good swaps comes first. */
   bool renumber_vertices = true;
   /** \brief Default: 0, meaning unlimited (the descent ends anyway: every swap lowers
     * the cost by more than rounding, and there are finitely many triangulations).
     * Limits all swaps of all passes. */
   std::size_t max_swaps = 0;
-  /** \brief Default: 0, meaning OpenMP's default. Threads for the parts that run in
+  /** \brief Default: 0, meaning all cores. Threads for the parts that run in
     * parallel (pricing every edge, the first intersection count); the result is the
     * same for every thread count. */
   int num_threads = 0;
@@ -101,52 +92,32 @@ struct EdgeSwapOptions
     * least this angle (degrees), or that belong to a triangle of an intersecting pair
     * (any swap that lowers the cost there may take part in removing it); flatter edges
     * are left to the angle pass. On nearly flat parts the curvature cost is tiny and
-    * rewards slivers along the least curved direction, which the angle pass then
-    * flips back: with 0 (the former behaviour) the descent made 38,500 swaps on horse
-    * and the angle pass 28,600 more, with 10 they make 5,700 and 25,600, and the stage
-    * takes 43% fewer instructions. Measured on fandisk, armadillo_igl, bunny_igl,
-    * horse and armadillo_noisy_100k against 0: the same angles, reference edges and
-    * sharp edges, normal deviation within 0.07 degrees (fandisk 0.17 -> 0.20, whose
-    * gently curved faces turn by less than 10 degrees; horse 1.10 -> 1.16). */
+    * rewards slivers along the least curved direction, which the angle pass would
+    * then flip back: the bound saves most of both passes' swaps at the same quality. */
   double descent_min_dihedral_deg = 10.0;
   /** \brief Default: 25. Noisy input: when the median angle between the normals of
     * adjacent triangles of the input exceeds this (degrees), the points scatter about
     * the surface by about their spacing, and lowering the curvature pulls the surface
-    * off them (the two-sided distance of armadillo_noisy_100k to the true surface grew
-    * by 7%). The descent then only makes swaps that bring the new edge's midpoint no
+    * off them. The descent then only makes swaps that bring the new edge's midpoint no
     * farther from the local average of the points (each vertex's mean with its
-    * neighbours, measured along the quad's normal) than the old edge's midpoint. The
-    * clean clouds measured have medians of 0 to 13 degrees, the noisy armadillo 38.
-    * 180 turns the rule off. */
+    * neighbours, measured along the quad's normal) than the old edge's midpoint.
+    * Clean clouds stay well below the default. 180 turns the rule off. */
   double noisy_median_dihedral_deg = 25.0;
   /** \brief Default: true. A last pass that makes the mesh locally Delaunay where it
     * is nearly flat: an edge whose two opposite angles sum to more than pi (decided on
     * the sine and cosine of the sum) is swapped when its quad turns by less than
     * `angle_pass_max_dihedral_deg`, the swap is admissible as above, and it adds no
-    * intersecting pair. Flipping only edges beyond pi + 5 degrees saves 40% of its
-    * swaps on horse but loses an eighth of the stage's normal-deviation gain there
-    * and 6% of the reference edges (0.963 -> 0.908). It runs last
-    * because the curvature descent prefers slivers along the directions of least
-    * curvature on smooth, curved parts and would undo it. Measured (mean smallest
-    * angle, share below 10 degrees, after the whole stage): 1:1:6 ellipsoid of
-    * 3,000 points 16.7 -> 32.8 deg, 31.5% -> 2.2%; fandisk 39.5 -> 43 deg,
-    * 3.5% -> 0.2%; armadillo_igl 37.5 -> 41.8 deg; no intersecting pair added. */
+    * intersecting pair. It runs last because the curvature descent prefers slivers
+    * along the directions of least curvature on smooth, curved parts and would undo
+    * it; it removes most triangles with an angle below 10 degrees. */
   bool improve_angles = true;
   /** \brief Default: true. The descent makes no swap whose new edge is longer than
     * every edge of its quad (the four sides and the old diagonal). A surface departs
     * from a chord by about the square of its length times the curvature, and the
     * curvature cost, summed over edges, sometimes prefers one long edge across a
-    * region the points do not support: on horse a web between two parts came out
-    * farther from the reference than the raw mesh (largest distance 1.04e-2 ->
-    * 1.07e-2 of the diagonal, measured on 28 lattice points per triangle); with the
-    * rule, 9.89e-3. Measured against no rule (pcl_optimization_report, fandisk,
-    * armadillo_igl, bunny_igl, horse, armadillo_noisy_100k): the largest distance
-    * lower or equal on all five, normal deviation lower on horse (0.94 -> 0.83 deg),
-    * armadillo_igl (1.31 -> 1.28) and the noisy armadillo, higher on bunny_igl
-    * (2.94 -> 3.04); mean smallest angle higher on all; reference edges about the
-    * same (armadillo_igl 0.940 -> 0.944, bunny 0.888 -> 0.886), sharp edges fewer on
-    * armadillo_igl (3894 -> 3813 of 4406) and bunny (727 -> 690 of 797), more on horse
-    * (1130 -> 1139 of 1332). Applies to the cost descent only. */
+    * region the points do not support (a web between two parts); the rule keeps the
+    * largest distance to the surface down and the angles up. Applies to the cost
+    * descent only. */
   bool descent_keeps_longest_edge = true;
   /** \brief Default: 15. Quads turning more than this (degrees) are left alone by
     * the angle pass: across a crease a swap would cut the feature. */
@@ -224,14 +195,8 @@ oppositeAnglesExceedPi (const Eigen::Vector3d& a,
   * The passes: the descent (edges that turn by at least descent_min_dihedral_deg),
   * then rounds of targeted intersection removal each followed by the descent, then
   * the angle pass. Angles are computed with a polynomial arctangent (within 4e-8
-  * radians), costs before a swap are cached per edge.
-  *
-  * Cost, measured with the default options on one thread (user time): 0.19 s for
-  * the 97k-triangle raw horse (31,000 swaps; 0.77 s and 67,000 swaps before the
-  * changes of issue 5); 6.6 s on two threads for the 2M-triangle raw
-  * armadillo_uniform_1m (604,000 swaps; 31 s and 1.85M swaps before). Memory:
-  * about 180 bytes per triangle without renumbering (armadillo_uniform_1m, the
-  * stage's peak over the resident set before it).
+  * radians), costs before a swap are cached per edge. Memory: about 180 bytes per
+  * triangle without renumbering.
   * \param[in] points the vertex positions
   * \param[in,out] triangles the mesh, counter-clockwise seen from outside
   * \param[in] options cost and passes

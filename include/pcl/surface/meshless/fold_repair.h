@@ -16,11 +16,10 @@
   * Local folds removed by re-meshing small discs.
   *
   * Where a triangulation folds locally (a vertex whose fan overlaps itself or its
-  * neighbours' triangles, a pleat of two or three triangles: measured, the pairs
-  * left after the edge swaps on the shared genus-0 clouds are at most two edges
-  * apart), no single edge swap may lower the number of intersecting pairs. The
-  * fold is gone once its vertices are taken out and put back: the disc of their
-  * triangles is projected onto the plane of its boundary (Newell's normal), the
+  * neighbours' triangles, a pleat of two or three triangles: the pairs left after
+  * the edge swaps are typically at most two edges apart), no single edge swap may
+  * lower the number of intersecting pairs. The fold is gone once its vertices are
+  * taken out and put back: the disc of their triangles is projected onto the plane of its boundary (Newell's normal), the
   * boundary polygon, if simple there, is triangulated by ear clipping, the inner
   * vertices are inserted one by one into the triangles they fall in, and Lawson
   * flips make the disc Delaunay in that plane. The disc keeps its boundary and
@@ -34,9 +33,8 @@
   * vertex at the mean of its neighbours on its own side. A disc's rings can
   * reach a vertex from two sides (around a thin spike or ear rim) or surround a
   * few triangles they do not cover: the region then takes in that vertex or hole
-  * until its boundary is one simple loop (measured: bunny_igl 5 -> 0 pairs at the
-  * end, cow_igl 6 -> 4; otherwise such folds stayed). Folds whose discs mix the
-  * two sides of a thin part along their boundary stay.
+  * until its boundary is one simple loop (otherwise such folds stay). Folds whose
+  * discs mix the two sides of a thin part along their boundary stay.
   */
 namespace pcl {
 namespace meshless {
@@ -51,13 +49,12 @@ struct FoldRepairOptions
     * still intersect, up to max_swaps_in_a_row in a row, where that lowers the number of
     * intersecting pairs. Default true. */
   bool swaps = true;
-  /** \brief Swaps tried in a row before giving up on an edge (measured on
-    * bunny_igl: 2 -> 20 pairs in 1 s, 3 -> 19 in 6 s, 4 -> 11 in 77 s). Default 2. */
+  /** \brief Swaps tried in a row before giving up on an edge; each more removes a
+    * few more pairs at many times the cost. Default 2. */
   int max_swaps_in_a_row = 2;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
     * triangles still intersecting); they stop at the first pass that lowers nothing.
-    * Default 4 (measured: one 1:1:20 ellipsoid sample 18 -> 9 pairs against 2 passes,
-    * 8 passes no further; the shared clouds' meshes unchanged). */
+    * Default 4: more passes rarely lower anything further. */
   int max_passes = 4;
   /** \brief Larger discs are not tried. Default 300 triangles. */
   std::size_t max_region_triangles = 300;
@@ -72,6 +69,9 @@ struct FoldRepairOptions
     * knows which triangles are still those an earlier one saw
     * (MeshCheckOptions::known_apart). Ignored if its size differs. */
   std::vector<char>* rewritten = nullptr;
+  /** \brief Threads for setting up the repair's grid (0 = all cores). The result
+    * does not depend on it. Default 0. */
+  int num_threads = 0;
 };
 
 /** \brief What repairFoldsByReinsertion() did. */

@@ -177,8 +177,8 @@ checkMesh (const Points3& vertices,
   * A faithful surface through a cloud faces the way the cloud's oriented normals
   * do almost everywhere. A closed genus-0 surface forced through a cloud of higher
   * genus or an open sheet must turn back over itself somewhere, and there large
-  * parts of it face against the normals (measured: a torus 43%, fertility 30%, an
-  * open face scan 16%; genus-0 scans 0.01% to 2.5%).
+  * parts of it face against the normals: tens of percent of the area, where
+  * genus-0 scans stay at a few percent at most.
   * \param[in] normals one per vertex, oriented (need not be unit length)
   * 
 eturn 0 for an empty mesh or one of zero area */
@@ -195,9 +195,8 @@ areaFacingAgainstNormals (const Points3& vertices,
   * points crowd (a fold, a flap) intersects itself between triangles one or two
   * edges apart. A closed genus-0 surface forced through a cloud with a handle has
   * to pass through itself somewhere else: a membrane across the hole or a cut
-  * through the tube meets the surface tens of edges away (measured on rocker_arm,
-  * genus 1: 91 of 140 pairs more than 32 edges apart; on the genus-0 clouds of the
-  * shared data none farther than 2 edges, or 12 on layered raw scans).
+  * through the tube meets the surface tens of edges away, where the folds of
+  * genus-0 clouds stay within a few edges (a dozen on layered raw scans).
   * \param[in] num_vertices size of the vertex array the triangles index
   * \param[in] triangles the mesh; triangles with an index out of range are ignored
   * \param[in] pairs indices into triangles, e.g. MeshReport::intersecting_pairs;

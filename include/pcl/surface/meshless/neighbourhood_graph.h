@@ -28,6 +28,8 @@ struct NeighbourhoodOptions
   /** \brief With a radius: keep at most this many neighbours, the nearest ones
     * (0 = all). Default 0. */
   int max_neighbours = 0;
+  /** \brief Threads for the queries (0 = all cores). Default 0. */
+  int num_threads = 0;
 };
 
 /** \brief Directed neighbourhoods N(v): row v lists the neighbours of v, nearest
@@ -44,31 +46,10 @@ struct Neighbourhoods : StageStatus
   * without self loops or repeated entries.
   * \param[in] neighbourhoods directed neighbourhoods of n vertices (entries must be
   *            in [0, n); self entries are dropped)
+  * \param[in] num_threads threads for the row sorts (0 = all cores)
   */
-/** \brief The half-edges of a triangle mesh grouped by the smaller vertex of their
-  * edge. Group v holds (larger vertex, half-edge) for every half-edge whose edge's
-  * smaller vertex is v, sorted, so that the half-edges of one edge are adjacent and
-  * the edges come in the order of (smaller, larger) vertex. Half-edge 3 t + j runs
-  * from corner j of triangle t to corner j + 1.
-  */
-struct HalfEdgeGroups
-{
-  /** \brief Group v is ends[start[v]] .. ends[start[v + 1]] (n + 1 entries). */
-  std::vector<std::uint32_t> start;
-  std::vector<std::pair<pcl::index_t, std::int32_t>> ends;
-};
-
-/** \brief Groups the half-edges of `triangles` by the smaller vertex of their edge
-  * with a counting pass (linear, and a quarter of the memory of sorting 64-bit
-  * edge keys with their half-edges).
-  * \param[in] triangles vertex indices in [0, n), fewer than 2^31 / 3 triangles
-  * \param[in] n number of vertices
-  */
-HalfEdgeGroups
-groupHalfEdges (const Triangles& triangles, std::size_t n);
-
 CsrGraph
-symmetricGraph (const CsrGraph& neighbourhoods);
+symmetricGraph (const CsrGraph& neighbourhoods, int num_threads = 0);
 
 /** \brief The transposed (reversed) graph: w lists v for every entry w in row v.
   * Rows come out sorted ascending. */

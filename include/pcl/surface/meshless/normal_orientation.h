@@ -33,19 +33,17 @@ struct NormalOrientation : StageStatus
   * best. Points the mutual graph does not reach are oriented afterwards through
   * `graph`.
   *
-  * One edge of the tree decides everything beyond it, and on a limb a
-  * few points around even a confident edge may cross the limb (cow_igl's legs: 144
-  * of its lowest 276 points turned inwards). So the tree's signs are then revised
+  * One edge of the tree decides everything beyond it, and on a limb a few points
+  * around even a confident edge may cross the limb, turning a leg inwards. So the
+  * tree's signs are then revised
   * by regions: points joined by confident mutual edges (confidence above 0.3)
   * whose signs agree form a region; between two regions all graph edges vote for
   * the same or the opposite sign, each weighted by its confidence (at least 0.05);
   * a spanning tree over the regions, strongest sums first and from each
-  * component's largest region, settles each region's sign (cow_igl: 302 -> 138
-  * normals against its reference mesh, none on the lower legs; bunny_igl 35 ->
-  * 12; no shared cloud worse).
+  * component's largest region, settles each region's sign.
   *
-  * The seed alone may sit in a thin part whose propagation goes astray (cow_igl: a
-  * hoof seed turned the whole body inwards), so each component's sign is finally
+  * The seed alone may sit in a thin part whose propagation goes astray (a seed on
+  * a hoof can turn the whole body inwards), so each component's sign is finally
   * settled by a vote: outward normals satisfy sum n_v . (v - c) A_v =
   * 3 volume > 0 (divergence theorem), A_v estimated by the squared distance to the
   * nearest neighbour. Each ring whose normal is flipped is reversed, so that rings

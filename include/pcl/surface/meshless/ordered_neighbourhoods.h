@@ -24,6 +24,9 @@ struct OrderingOptions
 {
   /** \brief Default: LocalPlane::ProjectOntoFit. */
   LocalPlane plane = LocalPlane::ProjectOntoFit;
+  /** \brief Threads ordering the rings (0 = all cores). The rings do not depend on
+    * it. Default 0. */
+  int num_threads = 0;
 };
 
 /** \brief Delaunay-ordered neighbourhoods N'(v) of every point. */

@@ -36,10 +36,10 @@ struct PatchFlipOptions
   * convex in the parameter plane, so that the triangulation stays an embedding of
   * the parameter points (a disc bounded by the same loop, no fold in the plane).
   *
-  * The swaps then find most of that work done: on armadillo_uniform_1m the angle
-  * pass after the descent made 377,056 swaps (1.0 s, single-threaded, each one
-  * checked for intersections against the whole mesh); run first, it made 377,507
-  * and left 16,530 for the end. The intersections the flips could make with other
+  * The swaps then find most of that work done: their angle pass runs on one thread
+  * and checks each swap for intersections against the whole mesh, while these
+  * flips run in parallel and leave it a few percent. The intersections the flips
+  * could make with other
   * parts of the surface are found by the check of the raw mesh like those of the
   * Delaunay triangulation itself.
   *

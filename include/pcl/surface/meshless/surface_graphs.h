@@ -34,6 +34,19 @@ struct SurfaceGraphs : StageStatus
   Weights weights;
 };
 
+/** \brief Options of buildSurfaceGraphs(). */
+struct SurfaceGraphOptions
+{
+  /** \brief The weights of the parameterization. Default: WeightType::MeanValue. */
+  WeightType weights = WeightType::MeanValue;
+  /** \brief Drop the edges across parts thinner than the point spacing (see
+    * buildSurfaceGraphs). Default false. */
+  bool separate_thin_sheets = false;
+  /** \brief Threads for the graph, the rings and the weights (0 = all cores). The
+    * result does not depend on it. Default 0. */
+  int num_threads = 0;
+};
+
 /** \brief Called after "graph", "rings" and "weights" with a short detail line;
   * return false to cancel. */
 using SurfaceStageDone = std::function<bool (const std::string& stage, const std::string& detail)>;
@@ -46,8 +59,8 @@ using SurfaceStageDone = std::function<bool (const std::string& stage, const std
   * the surface is thinner than the point spacing, kNN edges join its two sides,
   * and rings that mix the sides fold the patches there. The test cannot tell a
   * sheet from a convex crease sharper than 90 degrees, so it is an option, which
-  * the class uses as a second attempt (measured: armadillo_igl 78 -> 0
-  * intersecting pairs, horse 38 -> 18, cow_igl 279 -> 72; fandisk 0 -> 920).
+  * the class uses as a second attempt: it removes most folds on thin parts and
+  * adds some on sharp creases.
   * \param[in] neighbourhoods directed neighbourhoods N(v) of the points
   * \return fails if the graph is disconnected (several objects, outliers, too few
   *         neighbours), a stage fails, or `done` cancels (message "cancelled by
@@ -56,9 +69,23 @@ using SurfaceStageDone = std::function<bool (const std::string& stage, const std
 SurfaceGraphs
 buildSurfaceGraphs (const Points3& points,
                     const CsrGraph& neighbourhoods,
+                    const SurfaceGraphOptions& options,
+                    const SurfaceStageDone& done = {});
+
+/** \brief The same with the weights and thin-sheet choice given one by one, on all
+  * cores. */
+inline SurfaceGraphs
+buildSurfaceGraphs (const Points3& points,
+                    const CsrGraph& neighbourhoods,
                     WeightType weights,
                     const SurfaceStageDone& done = {},
-                    bool separate_thin_sheets = false);
+                    bool separate_thin_sheets = false)
+{
+  SurfaceGraphOptions options;
+  options.weights = weights;
+  options.separate_thin_sheets = separate_thin_sheets;
+  return buildSurfaceGraphs (points, neighbourhoods, options, done);
+}
 
 } // namespace meshless
 } // namespace pcl

@@ -30,6 +30,9 @@ struct WeightOptions
   WeightType type = WeightType::MeanValue;
   /** \brief How rings were brought into their plane; must match the ordering. */
   LocalPlane plane = LocalPlane::ProjectOntoFit;
+  /** \brief Threads computing the weights (0 = all cores). The weights do not
+    * depend on it. Default 0. */
+  int num_threads = 0;
 };
 
 /** \brief Weights per point, laid out like the neighbourhood they were computed on:
