@@ -2,6 +2,8 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/stage_clock.h"
+
 #include <pcl/surface/meshless/delaunay_2d.h>
 #include <pcl/surface/meshless/disc_pipeline.h>
 #include <pcl/surface/meshless/mesh_checks.h>
@@ -146,25 +148,22 @@ triangulateDisc (const Points3& points,
 {
   DiscTriangulation result;
   const std::size_t n = points.size ();
-  auto start = std::chrono::steady_clock::now ();
-  auto report = [&] (const std::string& stage, double fraction, const std::string& detail) {
-    const auto now = std::chrono::steady_clock::now ();
-    const double seconds = std::chrono::duration<double> (now - start).count ();
-    start = now;
-    return !options.progress || options.progress ({stage, fraction, seconds, detail});
-  };
+  StageClock clock (options.progress);
   if (n < 3) {
     result.message = "an open surface needs at least three points";
     return result;
   }
-  const SurfaceGraphs surface = buildSurfaceGraphs (points, neighbourhoods, options.weights);
+  SurfaceGraphOptions graphs;
+  graphs.weights = options.weights;
+  graphs.num_threads = options.num_threads;
+  const SurfaceGraphs surface = buildSurfaceGraphs (points, neighbourhoods, graphs);
   if (!surface.success) {
     result.message = surface.message;
     return result;
   }
   const OrderedNeighbourhoods& ordered = surface.ordered;
   const Weights& weights = surface.weights;
-  if (!report ("rings and weights", 0.3, std::to_string (weights.num_fallbacks) + " fallbacks")) {
+  if (!clock.done ("rings and weights", 0.3, std::to_string (weights.num_fallbacks) + " fallbacks")) {
     result.message = "cancelled by the progress callback";
     return result;
   }
@@ -184,7 +183,7 @@ triangulateDisc (const Points3& points,
   for (std::size_t v = 0; v < n; ++v)
     if (!on_outer[v])
       patch.points.push_back (static_cast<pcl::index_t> (v));
-  if (!report ("boundary", 0.4,
+  if (!clock.done ("boundary", 0.4,
                std::to_string (patch.loop.size ()) + " points on the outer loop, " +
                    std::to_string (boundary.loops.size () - 1) + " inner loop(s)")) {
     result.message = "cancelled by the progress callback";
@@ -239,7 +238,7 @@ triangulateDisc (const Points3& points,
   }
   result.triangles = std::move (kept);
   result.outer_loop = patch.loop;
-  report ("triangulation", 1.0, std::to_string (result.triangles.size ()) + " triangles");
+  clock.done ("triangulation", 1.0, std::to_string (result.triangles.size ()) + " triangles");
   result.success = true;
   return result;
 }

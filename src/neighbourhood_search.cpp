@@ -4,7 +4,7 @@
  */
 #include <pcl/surface/meshless/neighbourhood_search.h>
 
-#include <omp.h>
+#include "common/threads.h"
 
 #include <algorithm>
 #include <cmath>
@@ -64,7 +64,7 @@ NeighbourRows::NeighbourRows (std::size_t cloud_size, const pcl::Indices& cloud_
 int
 NeighbourRows::threadCount (int requested)
 {
-  return requested > 0 ? requested : omp_get_max_threads ();
+  return meshless::threadCount (requested);
 }
 
 bool

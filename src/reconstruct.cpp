@@ -226,6 +226,7 @@ Conductor::firstSphereRun ()
   options.weights = options_.weights;
   options.polyhedron = options_.polyhedron;
   options.release_freed_memory = options_.release_freed_memory;
+  options.num_threads = static_cast<int> (options_.num_threads);
   options.progress = record_;
   // The swaps' angle pass starts inside the patches, where they are triangulated in
   // parallel (flipFlatEdgesInPatch); the swaps find most of it done.
@@ -272,6 +273,7 @@ Conductor::firstDiscRun ()
 {
   DiscPipelineOptions options;
   options.weights = options_.weights;
+  options.num_threads = static_cast<int> (options_.num_threads);
   options.progress = record_;
   DiscTriangulation disc = triangulateDisc (points_, neighbourhoods_.neighbours, options);
   if (!disc.success)

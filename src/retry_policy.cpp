@@ -79,6 +79,7 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
     repair_options.normals = &normals;
   }
   repair_options.rewritten = rewritten;
+  repair_options.num_threads = static_cast<int> (options_.num_threads);
   repair = repairFoldsByReinsertion (points_, triangles, mesh.intersecting_pairs, repair_options);
   return clock_.done (stage, 1.0,
                       std::to_string (repair.pairs_before) + " -> " +

@@ -3,6 +3,7 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include "common/stage_clock.h"
+#include "common/threads.h"
 
 #include <pcl/surface/meshless/cut_paths.h>
 #include <pcl/surface/meshless/freed_memory.h>
@@ -113,16 +114,25 @@ private:
 
   /** The symmetric graph, the rings, the mutual graph and the weights.
     * \return false (the message set) if they cannot be built. */
+  SurfaceGraphOptions
+  surfaceGraphOptions () const
+  {
+    SurfaceGraphOptions graphs;
+    graphs.weights = options_.weights;
+    graphs.separate_thin_sheets = options_.separate_thin_sheets;
+    graphs.num_threads = options_.num_threads;
+    return graphs;
+  }
+
   bool
   buildGraphs ()
   {
     const double stage_fraction[] = {0.05, 0.15, 0.2}; // graph, rings, weights
     int stage = 0;
-    surface_ = buildSurfaceGraphs (points_, neighbourhoods_, options_.weights,
+    surface_ = buildSurfaceGraphs (points_, neighbourhoods_, surfaceGraphOptions (),
                                    [&] (const std::string& name, const std::string& detail) {
                                      return clock_.done (name, stage_fraction[stage++], detail);
-                                   },
-                                   options_.separate_thin_sheets);
+                                   });
     if (!surface_.success) {
       result_.message = surface_.message;
       return false;
@@ -287,7 +297,8 @@ private:
                       [&] (std::size_t a, std::size_t b) {
                         return split.patches[a].points.size () > split.patches[b].points.size ();
                       });
-#pragma omp parallel for schedule(dynamic, 1)
+    const int threads = threadCount (options_.num_threads);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(threads)
     for (std::ptrdiff_t k = 0; k < static_cast<std::ptrdiff_t> (faces); ++k) {
       const std::size_t f = largest_first[k];
       triangulated[f] = triangulatePatch (points_, surface_.weights, split.patches[f], solve,
@@ -345,8 +356,7 @@ private:
   rebuildGraphs ()
   {
     ++result_.stats.rebuilds;
-    SurfaceGraphs again = buildSurfaceGraphs (points_, neighbourhoods_, options_.weights, {},
-                                              options_.separate_thin_sheets);
+    SurfaceGraphs again = buildSurfaceGraphs (points_, neighbourhoods_, surfaceGraphOptions ());
     surface_.graph = std::move (again.graph);
     surface_.mutual = std::move (again.mutual);
     surface_.ordered.rings = std::move (again.ordered.rings);

@@ -49,6 +49,8 @@ struct DiscPipelineOptions
   /** \brief Default: WeightType::MeanValue. */
   WeightType weights = WeightType::MeanValue;
   SolveOptions solve;
+  /** \brief Threads for the graphs (0 = all cores). */
+  int num_threads = 0;
   ProgressCallback progress;
 };
 

@@ -72,6 +72,8 @@ struct SpherePipelineOptions
   /** \brief Return freed memory to the system before the patch solves
     * (releaseFreedMemory). Default false: the heap is the caller's. */
   bool release_freed_memory = false;
+  /** \brief Threads for the graphs and the patches (0 = all cores). */
+  int num_threads = 0;
   ProgressCallback progress;
 };
 

@@ -72,20 +72,5 @@ buildSurfaceGraphs (const Points3& points,
                     const SurfaceGraphOptions& options,
                     const SurfaceStageDone& done = {});
 
-/** \brief The same with the weights and thin-sheet choice given one by one, on all
-  * cores. */
-inline SurfaceGraphs
-buildSurfaceGraphs (const Points3& points,
-                    const CsrGraph& neighbourhoods,
-                    WeightType weights,
-                    const SurfaceStageDone& done = {},
-                    bool separate_thin_sheets = false)
-{
-  SurfaceGraphOptions options;
-  options.weights = weights;
-  options.separate_thin_sheets = separate_thin_sheets;
-  return buildSurfaceGraphs (points, neighbourhoods, options, done);
-}
-
 } // namespace meshless
 } // namespace pcl
