@@ -121,7 +121,8 @@ MeshFinisher::checkAndRepairRaw (Triangles& triangles, const Normals& normals,
 std::string
 MeshFinisher::optimize (Triangles& triangles, const Normals& normals, FinishedMesh& finished)
 {
-  EdgeSwapOptions swaps = options_.swaps;
+  EdgeSwapOptions swaps;
+  static_cast<SwapRules&> (swaps) = options_.swaps;
   swaps.renumber_vertices = false; // the points follow a Z-order curve already
   swaps.num_threads = static_cast<int> (options_.num_threads);
   if (sphere_ && options_.check_self_intersections &&

@@ -187,13 +187,14 @@ public:
     return options_.optimize;
   }
 
-  /** \brief Options of the edge-swap optimization (cost function, fold bound). */
+  /** \brief Rules of the edge-swap optimization (cost function, fold bound, angle
+    * pass); what the swaps need to know of the mesh and the machine the class sets. */
   inline void
-  setOptimizationOptions (const meshless::EdgeSwapOptions& options)
+  setOptimizationOptions (const meshless::SwapRules& options)
   {
     options_.swaps = options;
   }
-  inline const meshless::EdgeSwapOptions&
+  inline const meshless::SwapRules&
   getOptimizationOptions () const
   {
     return options_.swaps;

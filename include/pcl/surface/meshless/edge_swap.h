@@ -35,7 +35,9 @@ enum class SwapCost
   TotalAbsoluteCurvature
 };
 
-struct EdgeSwapOptions
+/** \brief The rules of the edge swaps that a user chooses (the class's
+  * setOptimizationOptions). */
+struct SwapRules
 {
   /** \brief Default: IntegratedMeanCurvature. With TotalAbsoluteCurvature it leaves
     * the fewest self-intersecting pairs and the best angles; of the two it has the
@@ -64,30 +66,10 @@ struct EdgeSwapOptions
     *   still intersect something;
     * - then resumes the cost descent under the first rule. */
   bool remove_self_intersections = true;
-  /** \brief Default: false. True where the caller knows that the input has no
-    * intersecting pair (checkMesh listed every pair and a repair removed them all):
-    * the first count, a full check of the mesh, is skipped and taken as 0. A wrong
-    * true cannot break the mesh's structure, but pairs the optimizer would have
-    * counted are then neither avoided nor removed: the caller's own check must still
-    * look at the result. */
-  bool input_free_of_intersections = false;
-  /** \brief Default: true. Renumbers the vertices in the order the triangles first
-    * use them, on a copy of the points, so that neighbours sit close in memory
-    * (every step reads the points of a neighbourhood); this pays on points in random
-    * order. False where the points are in a spatially coherent order already (the
-    * class numbers them along a Z-order curve): the copies of the points and the
-    * triangles are skipped, and the swaps work on the caller's triangles. A mesh that
-    * leaves vertices unused is renumbered all the same. The result depends on the
-    * numbering only in which of equally good swaps comes first. */
-  bool renumber_vertices = true;
   /** \brief Default: 0, meaning unlimited (the descent ends anyway: every swap lowers
     * the cost by more than rounding, and there are finitely many triangulations).
     * Limits all swaps of all passes. */
   std::size_t max_swaps = 0;
-  /** \brief Default: 0, meaning all cores. Threads for the parts that run in
-    * parallel (pricing every edge, the first intersection count); the result is the
-    * same for every thread count. */
-  int num_threads = 0;
   /** \brief Default: 10. The descent only swaps edges whose two triangles turn by at
     * least this angle (degrees), or that belong to a triangle of an intersecting pair
     * (any swap that lowers the cost there may take part in removing it); flatter edges
@@ -122,6 +104,31 @@ struct EdgeSwapOptions
   /** \brief Default: 15. Quads turning more than this (degrees) are left alone by
     * the angle pass: across a crease a swap would cut the feature. */
   double angle_pass_max_dihedral_deg = 15.0;
+};
+
+/** \brief The swaps' rules and what the caller knows of its mesh and machine. */
+struct EdgeSwapOptions : SwapRules
+{
+  /** \brief Default: false. True where the caller knows that the input has no
+    * intersecting pair (checkMesh listed every pair and a repair removed them all):
+    * the first count, a full check of the mesh, is skipped and taken as 0. A wrong
+    * true cannot break the mesh's structure, but pairs the optimizer would have
+    * counted are then neither avoided nor removed: the caller's own check must still
+    * look at the result. */
+  bool input_free_of_intersections = false;
+  /** \brief Default: true. Renumbers the vertices in the order the triangles first
+    * use them, on a copy of the points, so that neighbours sit close in memory
+    * (every step reads the points of a neighbourhood); this pays on points in random
+    * order. False where the points are in a spatially coherent order already (the
+    * class numbers them along a Z-order curve): the copies of the points and the
+    * triangles are skipped, and the swaps work on the caller's triangles. A mesh that
+    * leaves vertices unused is renumbered all the same. The result depends on the
+    * numbering only in which of equally good swaps comes first. */
+  bool renumber_vertices = true;
+  /** \brief Default: 0, meaning all cores. Threads for the parts that run in
+    * parallel (pricing every edge, the first intersection count); the result is the
+    * same for every thread count. */
+  int num_threads = 0;
   /** \brief Default: none. Optional, one entry per triangle: each slot a swap
     * writes is set to 1 (the others are left as they are), as
     * FoldRepairOptions::rewritten. Ignored if its size differs. */

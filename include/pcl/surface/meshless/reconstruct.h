@@ -48,7 +48,7 @@ struct ReconstructionOptions
   std::vector<pcl::Vertices> base_faces;
   /** \brief Edge swaps after the raw triangulation. */
   bool optimize = true;
-  EdgeSwapOptions swaps;
+  SwapRules swaps;
   /** \brief Further base meshes tried while the result intersects itself, then the
     * same sequence on k + 2 neighbours; 0 makes none. */
   int base_retries = 2;
