@@ -3,7 +3,7 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include <pcl/surface/meshless/mesh_checks.h>
-#include <pcl/surface/meshless/spatial_order.h>
+#include "common/spatial_order.h"
 #include <pcl/surface/meshless/triangle_intersection.h>
 
 #include <Eigen/Geometry>

@@ -6,9 +6,9 @@
 
 #include <pcl/surface/meshless/convex_hull.h>
 #include <pcl/surface/meshless/disc_pipeline.h>
-#include <pcl/surface/meshless/freed_memory.h>
+#include "common/freed_memory.h"
 #include <pcl/surface/meshless/reconstruct.h>
-#include <pcl/surface/meshless/spatial_order.h>
+#include "common/spatial_order.h"
 
 #include <Eigen/Eigenvalues> // SelfAdjointEigenSolver
 

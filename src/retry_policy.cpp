@@ -5,7 +5,7 @@
 #include "retry_policy.h"
 
 #include <pcl/surface/meshless/convex_hull.h>
-#include <pcl/surface/meshless/freed_memory.h>
+#include "common/freed_memory.h"
 
 #include <algorithm>
 

@@ -6,7 +6,7 @@
 #include "common/threads.h"
 
 #include <pcl/surface/meshless/cut_paths.h>
-#include <pcl/surface/meshless/freed_memory.h>
+#include "common/freed_memory.h"
 #include <pcl/surface/meshless/merge.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/normal_orientation.h>

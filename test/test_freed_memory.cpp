@@ -1,5 +1,5 @@
 // Freed memory given back to the operating system between stages.
-#include <pcl/surface/meshless/freed_memory.h>
+#include "common/freed_memory.h"
 
 #include <gtest/gtest.h>
 

@@ -272,7 +272,7 @@ TEST (NeighbourhoodGraph, RejectsBadParameters)
 
 TEST (NeighbourhoodGraph, KAndCapUpToIntMaxGiveEveryOtherPoint)
 {
-  // Issue 7, found by scripts/sanitize: k + 1 (the query point is among the results)
+  // k + 1 (the query point is among the results)
   // overflowed an int for k = INT_MAX, undefined behaviour; likewise the cap of ball
   // neighbourhoods.
   const auto cloud = randomCloud (30, 1.0, 5);

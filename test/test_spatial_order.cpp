@@ -1,5 +1,5 @@
 // The points' Z-order: a permutation that puts neighbours in space near in memory.
-#include <pcl/surface/meshless/spatial_order.h>
+#include "common/spatial_order.h"
 #include <meshless_tools/synthetic_clouds.h>
 
 #include <gtest/gtest.h>

@@ -2,7 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-// libFuzzer target (issue 7): raw bytes -> a small cloud and options ->
+// libFuzzer target: raw bytes -> a small cloud and options ->
 // pcl::SphericalMeshlessReconstruction -> the contract of the README checked from
 // the outside. The process aborts when the class reports success on a mesh that
 // breaks a promise, or fails without saying why; crashes, hangs, leaks, undefined

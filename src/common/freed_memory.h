@@ -11,10 +11,9 @@
   * arrays of up to 32 MB come from that pool once a large one has been freed (its
   * mmap threshold rises). The stages free hundreds of MB of such arrays on a
   * million points in a scattered heap, and the next stages allocate theirs anew:
-  * the resident set holds both. Measured on armadillo_uniform_1m with two threads:
-  * after the fold repair 204 MB in use but 528 MB resident; released after the
-  * sphere pipeline and before the edge swaps, the swaps' peak 690 -> about 620 MB,
-  * and no slower (three runs each, the same within the machine's noise).
+  * the resident set holds both. Released between stages, the peak of a large cloud
+  * drops by about a tenth, and no time is lost (doc/benchmarks.md). The heap is the
+  * host application's: the class releases only when asked (setReleaseFreedMemory).
   */
 namespace pcl {
 namespace meshless {

@@ -2,7 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-#include <pcl/surface/meshless/spatial_order.h>
+#include "spatial_order.h"
 
 #include <algorithm>
 #include <cmath>

@@ -16,10 +16,9 @@
   * Every stage walks the points' neighbourhoods: kNN queries, rings, weights, the
   * patches' sparse systems, the mesh checks. In the order a scanner or a file
   * delivers them, a point's neighbours lie anywhere in memory, and on a million
-  * points each visit misses the cache. Measured on armadillo_uniform_1m in the same
-  * hour, its file's order against this one: neighbourhood queries 2.9 -> 1.0 s,
-  * rings 3.5 -> 1.8 s, the patches' solves 10.0 -> 4.8 s (the fill-reducing ordering
-  * also finds less fill), 32.3 -> 19.8 s in all.
+  * points each visit misses the cache; in this order the queries, the rings and the
+  * solves run several times faster, and the fill-reducing ordering finds less fill
+  * (doc/benchmarks.md).
   */
 namespace pcl {
 namespace meshless {

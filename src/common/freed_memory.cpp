@@ -2,7 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-#include <pcl/surface/meshless/freed_memory.h>
+#include "freed_memory.h"
 
 #include <cstdlib> // defines __GLIBC__ where it is glibc
 
