@@ -185,6 +185,7 @@ reconstruct (const Cloud::ConstPtr& cloud, bool optimize,
   reconstruction.setOptimize (optimize);
   // A measuring tool: a mesh with folds left is measured, not refused.
   reconstruction.setAllowSelfIntersections (true);
+  reconstruction.setReleaseFreedMemory (true); // its peak memory as the CLI measures it
   reconstruction.setOptimizationOptions (options);
   double in_optimize = 0.0, cpu_in_optimize = 0.0;
   std::size_t stages = 0;

@@ -222,6 +222,7 @@ runMethods (const Cloud::Ptr& cloud, const pcl::search::KdTree<pcl::PointXYZ>::P
   reconstruction.setSearchMethod (tree);
   // A measuring tool: a mesh with folds left is measured, not refused.
   reconstruction.setAllowSelfIntersections (true);
+  reconstruction.setReleaseFreedMemory (true); // its peak memory as the CLI measures it
   {
     const meshless_tools::QuietPclLog quiet;
     reconstruction.reconstruct (spherical.mesh);

@@ -2,6 +2,8 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/union_find.h"
+
 #include <pcl/surface/meshless/cut_paths.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 
@@ -19,37 +21,6 @@ constexpr double infinity = std::numeric_limits<double>::infinity ();
 /** Cost factor of a step onto a point next to an earlier path: paths keep some
   * room between them, so that the regions between them do not pinch off. */
 constexpr double crowding_cost = 3.0;
-
-/** Union-find over a few elements (the corners or faces of D). */
-struct DisjointSets
-{
-  explicit DisjointSets (std::size_t size) : parent (size)
-  {
-    std::iota (parent.begin (), parent.end (), 0);
-  }
-
-  int
-  find (int x)
-  {
-    while (parent[x] != x)
-      x = parent[x] = parent[parent[x]];
-    return x;
-  }
-
-  /** \return false if a and b were already joined. */
-  bool
-  join (int a, int b)
-  {
-    a = find (a);
-    b = find (b);
-    if (a == b)
-      return false;
-    parent[std::max (a, b)] = std::min (a, b);
-    return true;
-  }
-
-  std::vector<int> parent;
-};
 
 /** Position of w in v's ring, or -1. */
 long
@@ -236,7 +207,7 @@ private:
       return edgeLength (a) < edgeLength (b);
     });
     in_tree_.assign (num_edges, 0);
-    DisjointSets tree (corners_);
+    DisjointSets<int> tree (corners_);
     for (std::size_t e : by_length)
       if (tree.join (result_.edges[e][0], result_.edges[e][1])) {
         in_tree_[e] = 1;
@@ -490,7 +461,7 @@ private:
   void
   updateRegions (std::size_t e, const std::vector<pcl::index_t>& path, int old_region)
   {
-    DisjointSets joined (num_faces_);
+    DisjointSets<int> joined (num_faces_);
     for (std::size_t other = 0; other < result_.edges.size (); ++other)
       if (!routed_[other])
         joined.join (sides_[other][0], sides_[other][1]);

@@ -2,6 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/constants.h"
 #include "common/stage_clock.h"
 
 #include <pcl/surface/meshless/delaunay_2d.h>
@@ -93,7 +94,7 @@ findBoundaryLoops (const Points3& points,
       const Eigen::Vector2d& b = local[(j + 1) % around.size ()];
       double angle = std::atan2 (a.x () * b.y () - a.y () * b.x (), a.dot (b));
       if (angle <= 0.0)
-        angle += 2.0 * 3.14159265358979323846;
+        angle += two_pi;
       if (angle > widest) {
         widest = angle;
         gap_end = (j + 1) % around.size ();
@@ -221,6 +222,7 @@ triangulateDisc (const Points3& points,
         kept.push_back (t);
     }
     MeshCheckOptions light;
+    light.num_threads = options.num_threads;
     light.check_self_intersections = false;
     const MeshReport cut = checkMesh (points, kept, light);
     // Each hole must open exactly one new boundary loop (a disc with h holes: Euler

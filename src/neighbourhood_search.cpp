@@ -13,6 +13,7 @@
 
 namespace pcl {
 namespace meshless {
+namespace detail {
 
 NeighbourRows::NeighbourRows (std::size_t cloud_size, const pcl::Indices& cloud_indices,
                               const NeighbourhoodOptions& options)
@@ -131,5 +132,6 @@ NeighbourRows::pack (std::size_t num_empty)
   return result;
 }
 
+} // namespace detail
 } // namespace meshless
 } // namespace pcl

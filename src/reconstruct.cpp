@@ -119,11 +119,16 @@ public:
   , sphere_ (options.topology == Topology::Sphere)
   , record_ ([this] (const ProgressReport& stage) {
     result_.report.stage_seconds.emplace_back (stage.stage, stage.seconds);
-    return options_.progress ? options_.progress (stage) : true;
+    cancelled_ |= options_.progress && !options_.progress (stage);
+    return !cancelled_;
   })
   , clock_ (record_)
   , finisher_ (points_, options_, result_, clock_)
   {}
+
+  Conductor (const Conductor&) = delete;
+  Conductor&
+  operator= (const Conductor&) = delete;
 
   Reconstruction
   run ();
@@ -148,6 +153,8 @@ private:
   firstSphereRun ();
   bool
   firstDiscRun ();
+  void
+  finishAndRetry ();
   bool
   finalVerdict ();
 
@@ -162,8 +169,8 @@ private:
   MeshFinisher finisher_;
   std::string precision_hint_; // appended to failures once the points are known
   Neighbourhoods neighbourhoods_;
-  SpherePipelineOptions first_options_; // the first run's, for the denser retries
-  SpherePipelineOptions kept_options_;  // those the result came from
+  SpherePipelineOptions first_options_; // the first run's, which the retries vary
+  bool cancelled_ = false;              // the user's callback said cancel, anywhere
 };
 
 bool
@@ -244,7 +251,6 @@ Conductor::firstSphereRun ()
   if (first.success) {
     result_.triangles = std::move (first.triangles);
     result_.normals = std::move (first.normals);
-    kept_options_ = options;
     return true;
   }
   // A few dozen points leave the pipeline too little to work with; if they all lie
@@ -328,29 +334,32 @@ Conductor::run ()
   }
   precision_hint_ = precisionHint (prepared_);
   const std::string flat = sphere_ ? flatness (points_) : "";
-  if (!flat.empty () || !searchNeighbourhoods () ||
-      !(sphere_ ? firstSphereRun () : firstDiscRun ())) {
-    if (!flat.empty ())
-      fail (flat);
-    return take ();
-  }
-  finisher_.useNeighbours (&neighbourhoods_.neighbours);
+  if (!flat.empty ())
+    fail (flat);
+  else if (searchNeighbourhoods () && (sphere_ ? firstSphereRun () : firstDiscRun ()))
+    finishAndRetry ();
+  return take ();
+}
+
+void
+Conductor::finishAndRetry ()
+{
+  // The policy holds the denser neighbourhoods the finisher may use: it lives until
+  // the verdict.
+  RetryPolicy policy (points_, neighbourhoods_.neighbours, options_, finisher_, result_, clock_);
   FinishedMesh first;
   const std::string problem = finisher_.finish (result_.triangles, result_.normals, first);
   result_.adopt (std::move (first));
   if (!problem.empty ()) {
     fail (problem);
-    return take ();
+    return;
   }
-  if (sphere_) {
-    RetryPolicy policy (points_, neighbourhoods_.neighbours, options_, finisher_, result_, clock_);
-    if (!policy.run (first_options_, kept_options_, search_)) {
-      fail ("cancelled by the progress callback");
-      return take ();
-    }
+  // Once the callback has said cancel, the call fails, even if a retry ran on.
+  if ((sphere_ && !policy.run (first_options_, search_)) || cancelled_) {
+    fail ("cancelled by the progress callback");
+    return;
   }
   finalVerdict ();
-  return take ();
 }
 
 } // namespace

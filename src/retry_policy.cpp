@@ -343,11 +343,10 @@ RetryPolicy::convexHullFallback ()
 }
 
 bool
-RetryPolicy::run (const SpherePipelineOptions& first_options,
-                  const SpherePipelineOptions& kept_options, const NeighbourSearch& search)
+RetryPolicy::run (const SpherePipelineOptions& first_options, const NeighbourSearch& search)
 {
   ReconstructionReport& report = current_.report;
-  retrySequence (kept_options, report.stats);
+  retrySequence (first_options, report.stats);
   if (options_.base_faces.empty () && options_.radius == 0.0 && options_.base_retries > 0 &&
       report.mesh.self_intersecting_pairs > 0 && !currentTurnsBack () &&
       static_cast<std::size_t> (options_.k) + 2 < points_.size () &&

@@ -109,12 +109,10 @@ public:
                const ReconstructionOptions& options, MeshFinisher& finisher,
                CurrentResult& current, StageClock& clock);
 
-  /** \brief All retries after a first run with `first_options`; `kept_options` are
-    * the options the current result came from.
+  /** \brief All retries after a first run with `first_options`, which they vary.
     * \return false if the progress callback cancelled. */
   bool
-  run (const SpherePipelineOptions& first_options, const SpherePipelineOptions& kept_options,
-       const NeighbourSearch& search);
+  run (const SpherePipelineOptions& first_options, const NeighbourSearch& search);
 
   /** \brief Whether the current result turns back (records the figures in the
     * report). */

@@ -2,6 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/constants.h"
 #include "common/stage_clock.h"
 #include "common/threads.h"
 
@@ -112,8 +113,7 @@ private:
     TryNext
   };
 
-  /** The symmetric graph, the rings, the mutual graph and the weights.
-    * \return false (the message set) if they cannot be built. */
+  /** What the surface graphs are built with. */
   SurfaceGraphOptions
   surfaceGraphOptions () const
   {
@@ -124,6 +124,8 @@ private:
     return graphs;
   }
 
+  /** The symmetric graph, the rings, the mutual graph and the weights.
+    * \return false (the message set) if they cannot be built. */
   bool
   buildGraphs ()
   {
@@ -169,7 +171,7 @@ private:
     const auto main_component = static_cast<pcl::index_t> (
         std::max_element (mutual_size.begin (), mutual_size.end ()) - mutual_size.begin ());
     for (std::size_t v = 0; v < n_; ++v) {
-      corner_eligible_[v] = surface_.ordered.largest_gap[v] < 0.9 * 3.14159265358979 &&
+      corner_eligible_[v] = surface_.ordered.largest_gap[v] < 0.9 * pi &&
                             mutual.degree (v) >= 4 && mutual_component[v] == main_component;
       eligible_count += corner_eligible_[v];
     }
@@ -332,9 +334,9 @@ private:
   /** The rings and the mutual graph served the paths and the split, and the
     * patches read G only next to the cuts (candidatesNearCuts): the patch solves
     * set the peak memory of large clouds, so these go before them. What the graphs,
-    * the paths and the split freed then goes back to the system: the patches are
-    * solved on two threads, and the second one's allocations cannot reuse the first
-    * one's free memory (glibc keeps an arena per thread). */
+    * the paths and the split freed then goes back to the system: with more than
+    * one thread, the other threads' allocations cannot reuse the first one's free
+    * memory (glibc keeps an arena per thread). */
   void
   makeRoomForPatchSolves ()
   {

@@ -96,6 +96,28 @@ TEST (Reconstruct, ClosedSphereThroughEveryPoint)
   EXPECT_EQ (search.asked, std::vector<int>{12}); // a clean result asks no k + 2
 }
 
+TEST (Reconstruct, CancelledByTheCallbackFailsEvenWhereTheStageGoesOn)
+{
+  SyntheticCloudOptions cloud;
+  cloud.num_points = 1000;
+  const PreparedPoints points = prepared (sampleShape (SyntheticShape::Sphere, cloud));
+  CountingSearch search{&points.points, {}};
+  ReconstructionOptions options;
+  std::vector<std::string> stages;
+  // The final check is the last stage; nothing comes after it that could stop.
+  options.progress = [&] (const ProgressReport& report) {
+    stages.push_back (report.stage);
+    return report.stage != "check";
+  };
+  const Reconstruction result = reconstruct (points, search.function (), options);
+  ASSERT_FALSE (stages.empty ());
+  EXPECT_EQ (stages.back (), "check");
+  EXPECT_FALSE (result.report.success);
+  EXPECT_TRUE (result.triangles.empty ());
+  EXPECT_NE (result.report.message.find ("cancelled"), std::string::npos)
+      << result.report.message;
+}
+
 TEST (Reconstruct, FailureIsEmptyWithAReason)
 {
   const PreparedPoints points = prepared ({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
@@ -159,7 +181,7 @@ TEST_F (RetryPolicyTest, FurtherBaseMeshesStopOnceClean)
   MeshFinisher finisher (points_, options_, current_, clock_);
   RetryPolicy policy (points_, neighbours_, options_, finisher, current_, clock_);
   current_.report.mesh.self_intersecting_pairs = 5;
-  policy.run (pipeline_, pipeline_, {});
+  policy.run (pipeline_, {});
   EXPECT_EQ (current_.report.base_retries, 1u); // the first further layout was clean
   EXPECT_TRUE (current_.report.base_retry_kept);
   EXPECT_EQ (current_.report.mesh.self_intersecting_pairs, 0u);
@@ -169,7 +191,7 @@ TEST_F (RetryPolicyTest, FurtherBaseMeshesStopOnceClean)
   untouched.report.mesh.self_intersecting_pairs = 5;
   MeshFinisher other_finisher (points_, options_, untouched, clock_);
   RetryPolicy none (points_, neighbours_, options_, other_finisher, untouched, clock_);
-  none.run (pipeline_, pipeline_, {});
+  none.run (pipeline_, {});
   EXPECT_EQ (untouched.report.base_retries, 0u);
 }
 

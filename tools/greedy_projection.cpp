@@ -1,5 +1,7 @@
 #include <meshless_tools/greedy_projection.h>
 
+#include "common/constants.h"
+
 #include <pcl/common/io.h>
 #include <pcl/features/normal_3d.h>
 #include <pcl/surface/gp3.h>
@@ -11,7 +13,6 @@ namespace meshless_tools {
 
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
 
 } // namespace
 
@@ -67,9 +68,9 @@ greedyProjection (const pcl::PointCloud<pcl::PointXYZ>::ConstPtr& cloud,
   gp3.setSearchRadius (parameters.radius);
   gp3.setMu (GreedyParameters::mu);
   gp3.setMaximumNearestNeighbors (GreedyParameters::max_neighbours);
-  gp3.setMaximumSurfaceAngle (GreedyParameters::max_surface_angle_deg * pi / 180.0);
-  gp3.setMinimumAngle (GreedyParameters::min_angle_deg * pi / 180.0);
-  gp3.setMaximumAngle (GreedyParameters::max_angle_deg * pi / 180.0);
+  gp3.setMaximumSurfaceAngle (GreedyParameters::max_surface_angle_deg * pcl::meshless::pi / 180.0);
+  gp3.setMinimumAngle (GreedyParameters::min_angle_deg * pcl::meshless::pi / 180.0);
+  gp3.setMaximumAngle (GreedyParameters::max_angle_deg * pcl::meshless::pi / 180.0);
   gp3.setNormalConsistency (false);
   gp3.setInputCloud (with_normals);
   gp3.setSearchMethod (normal_tree);

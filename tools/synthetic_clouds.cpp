@@ -4,6 +4,8 @@
  */
 #include <meshless_tools/synthetic_clouds.h>
 
+#include "common/constants.h"
+
 #include <Eigen/Geometry>
 
 #include <cmath>
@@ -14,7 +16,6 @@ namespace meshless {
 
 namespace {
 
-constexpr double pi = 3.14159265358979323846;
 const double golden_angle = pi * (3.0 - std::sqrt (5.0));
 
 /** Radius of the bumpy sphere in direction d: smooth, star-shaped, 0.75 .. 1.25. */

@@ -134,8 +134,8 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     meshless::NeighbourhoodOptions neighbourhood;
     neighbourhood.k = k;
     neighbourhood.radius = options_.radius;
-    return meshless::searchNeighbourhoods (*tree_, prepared.cloud_indices, neighbourhood,
-                                           static_cast<int> (options_.num_threads));
+    neighbourhood.num_threads = static_cast<int> (options_.num_threads);
+    return meshless::searchNeighbourhoods (*tree_, prepared.cloud_indices, neighbourhood);
   };
   meshless::Reconstruction result = meshless::reconstruct (prepared, search, options_);
   report_ = std::move (result.report);

@@ -40,8 +40,8 @@ constexpr std::size_t points_per_base_face_by_size = 125000;
   * returned as it is.
   *
   * The tetrahedron's four patches make four sparse systems whose LU factors grow
-  * faster than the points (fill of a planar graph's elimination) and are solved two
-  * at a time: on large clouds the octahedron's eight smaller patches lower the peak
+  * faster than the points (fill of a planar graph's elimination) and are solved
+  * side by side: on large clouds the octahedron's eight smaller patches lower the peak
   * memory by a fifth or more and are no slower. Below 500,000 points the
   * tetrahedron, the paper's choice, stays: its fewer corners meet fewer thin parts.
   * Not the icosahedron: its twelve corners include limb tips on shapes with limbs,

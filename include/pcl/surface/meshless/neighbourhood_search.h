@@ -12,8 +12,11 @@
 namespace pcl {
 namespace meshless {
 
+namespace detail {
+
 /** \brief The rows of the directed neighbourhoods N(v) as a search fills them, in
-  * pipeline numbering; PointT-free, so that only the queries are a template.
+  * pipeline numbering; PointT-free, so that only the queries are a template. Not
+  * part of the API: searchNeighbourhoods' machinery.
   *
   * Each thread fills its own rows (`filterRow`), then `pack` lays them out in order:
   * the result does not depend on the number of threads.
@@ -84,6 +87,8 @@ private:
   std::string problem_;
 };
 
+} // namespace detail
+
 /** \brief Query N(v) for every point through PCL's search interface.
   *
   * \param[in] search a search object whose input cloud is the cloud that
@@ -91,8 +96,7 @@ private:
   *            `reconstruct` has set it up)
   * \param[in] cloud_indices the points to reconstruct, as indices into the search's
   *            input cloud; point i of the pipeline is `cloud_indices[i]`
-  * \param[in] options k or radius
-  * \param[in] num_threads threads for the queries (0 = all cores)
+  * \param[in] options k or radius, and the threads for the queries
   * \return neighbourhoods in pipeline numbering (0 .. cloud_indices.size()-1);
   *         results that are not among cloud_indices are dropped.
   * \pre the search's input cloud is set and contains every index in cloud_indices
@@ -101,8 +105,7 @@ template <typename PointT>
 Neighbourhoods
 searchNeighbourhoods (const pcl::search::Search<PointT>& search,
                       const pcl::Indices& cloud_indices,
-                      const NeighbourhoodOptions& options,
-                      int num_threads = 0)
+                      const NeighbourhoodOptions& options)
 {
   const auto cloud = search.getInputCloud ();
   if (!cloud) {
@@ -110,7 +113,7 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
     result.message = "the search object has no input cloud";
     return result;
   }
-  NeighbourRows rows (cloud->size (), cloud_indices, options);
+  detail::NeighbourRows rows (cloud->size (), cloud_indices, options);
   if (!rows.problem ().empty ()) {
     Neighbourhoods result;
     result.message = rows.problem ();
@@ -119,7 +122,7 @@ searchNeighbourhoods (const pcl::search::Search<PointT>& search,
   // Queries in parallel, as in pcl::NormalEstimationOMP: a built search structure
   // answers concurrent const queries.
   const std::ptrdiff_t n = static_cast<std::ptrdiff_t> (cloud_indices.size ());
-  const int threads = NeighbourRows::threadCount (num_threads);
+  const int threads = detail::NeighbourRows::threadCount (options.num_threads);
   std::size_t num_empty = 0;
 #pragma omp parallel num_threads(threads) reduction(+ : num_empty)
   {

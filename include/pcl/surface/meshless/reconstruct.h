@@ -54,7 +54,8 @@ struct ReconstructionOptions
   int base_retries = 2;
   bool check_self_intersections = true;
   bool allow_self_intersections = false;
-  /** \brief Worker threads (0 = all cores). */
+  /** \brief Worker threads; 0 = OpenMP's default team (all cores unless
+    * OMP_NUM_THREADS says otherwise). */
   unsigned int num_threads = 0;
   /** \brief Return the allocator's freed memory to the system between stages
     * (releaseFreedMemory): lowers the peak of large clouds, but the heap is the host
@@ -72,7 +73,8 @@ struct ReconstructionReport
   std::string message;
   /** \brief Finite input points used (after removing duplicates). */
   std::size_t num_points = 0;
-  /** \brief Non-finite points skipped (only possible with is_dense = false). */
+  /** \brief Non-finite points skipped (only possible with is_dense = false); filled by
+    * the caller that dropped them (the PCL class). */
   std::size_t num_non_finite = 0;
   /** \brief Exact duplicates merged into the first point at the same position;
     * they stay in the output cloud as unused vertices. */
