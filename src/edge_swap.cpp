@@ -9,6 +9,7 @@
 
 #include "common/constants.h"
 #include "common/half_edges.h"
+#include "common/swap_predicates.h"
 #include "common/threads.h"
 #include "common/uniform_grid.h"
 

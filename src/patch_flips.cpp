@@ -2,7 +2,6 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
-#include <pcl/surface/meshless/edge_swap.h> // the swaps' predicates
 #include <pcl/surface/meshless/patch_flips.h>
 #include <pcl/surface/meshless/triangle_intersection.h> // orient2d
 
@@ -10,6 +9,7 @@
 
 #include "common/constants.h"
 #include "common/half_edges.h"
+#include "common/swap_predicates.h" // decided as the edge swaps decide
 
 #include <algorithm>
 #include <cmath>

@@ -7,6 +7,8 @@
 #include <pcl/surface/meshless/patch_flips.h>
 #include <pcl/surface/meshless/triangle_intersection.h>
 
+#include "common/swap_predicates.h"
+
 #include "test_support.h"
 
 #include <gtest/gtest.h>

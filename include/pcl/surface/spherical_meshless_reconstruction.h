@@ -260,8 +260,9 @@ public:
 
   /** \brief Worker threads for the stages that run in parallel (neighbour queries,
     * rings, weights, patches, checks, swaps); 0 (default) uses OpenMP's default team,
-    * all cores unless OMP_NUM_THREADS says otherwise. The result is the same for
-    * every count. No global OpenMP setting is touched. */
+    * all cores unless OMP_NUM_THREADS says otherwise. On large meshes the output
+    * check runs its topology pass on one more thread beside them. The result is the
+    * same for every count. No global OpenMP setting is touched. */
   inline void
   setNumberOfThreads (unsigned int nr_threads = 0)
   {
