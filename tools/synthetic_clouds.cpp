@@ -8,8 +8,14 @@
 
 #include <Eigen/Geometry>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <queue>
 #include <random>
+#include <unordered_map>
+#include <utility>
+#include <vector>
 
 namespace pcl {
 namespace meshless {
@@ -79,13 +85,10 @@ ellipsoidPoint (std::size_t i, std::size_t n, double jitter_u, double jitter_v)
   return {r * std::cos (phi), r * std::sin (phi), c * z};
 }
 
-} // namespace
-
+/** n points of a jittered lattice on one of the shapes the lattices cover. */
 Points3
-sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
+sampleLattice (SyntheticShape shape, std::size_t n, std::mt19937& random)
 {
-  const std::size_t n = options.num_points;
-  std::mt19937 random (options.seed);
   std::uniform_real_distribution<double> jitter (-0.5, 0.5);
   Points3 points;
   points.reserve (n);
@@ -131,15 +134,300 @@ sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
                            shape == SyntheticShape::Disc ? 0.0 : heightField (xy.x (), xy.y ()));
       break;
     }
+    default:
+      break;
     }
   }
-  if (options.noise > 0.0 && !points.empty ()) {
-    Eigen::Vector3d lo = points.front (), hi = points.front ();
-    for (const auto& p : points) {
-      lo = lo.cwiseMin (p);
-      hi = hi.cwiseMax (p);
+  return points;
+}
+
+struct BoundingBox
+{
+  Eigen::Vector3d lo, hi;
+};
+
+BoundingBox
+boundingBox (const Points3& points)
+{
+  BoundingBox box{points.front (), points.front ()};
+  for (const auto& p : points) {
+    box.lo = box.lo.cwiseMin (p);
+    box.hi = box.hi.cwiseMax (p);
+  }
+  return box;
+}
+
+/** Keeps n of the candidates, removing one at a time the one most crowded by its
+  * neighbours within twice the radius of n discs packed on the area (Yuksel's
+  * weighted sample elimination): a random cloud becomes evenly spaced, yet
+  * irregular. The survivors keep their order. */
+Points3
+eliminateCrowded (const Points3& candidates, std::size_t n, double area)
+{
+  const std::size_t m = candidates.size ();
+  if (n >= m)
+    return candidates;
+  const double reach = 2.0 * std::sqrt (area / (2.0 * std::sqrt (3.0) * static_cast<double> (n)));
+  const Eigen::Vector3d origin = boundingBox (candidates).lo;
+  auto cellOf = [&] (const Eigen::Vector3d& p) {
+    return ((p - origin) / reach).array ().floor ().cast<std::int64_t> ().eval ();
+  };
+  // Cells count from 0 at the box's corner, their neighbours from -1: shift by one so
+  // that keys stay non-negative (fewer than 2^21 cells per axis).
+  auto key = [] (std::int64_t x, std::int64_t y, std::int64_t z) {
+    return ((x + 1) << 42) | ((y + 1) << 21) | (z + 1);
+  };
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto c = cellOf (candidates[i]);
+    grid[key (c.x (), c.y (), c.z ())].push_back (static_cast<std::uint32_t> (i));
+  }
+  std::vector<std::vector<std::pair<std::uint32_t, double>>> crowding (m);
+  std::vector<double> weight (m, 0.0);
+  for (std::size_t i = 0; i < m; ++i) {
+    const auto c = cellOf (candidates[i]);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto cell = grid.find (key (c.x () + dx, c.y () + dy, c.z () + dz));
+          if (cell == grid.end ())
+            continue;
+          for (const std::uint32_t j : cell->second) {
+            const double d = (candidates[i] - candidates[j]).norm ();
+            if (j == i || d >= reach)
+              continue;
+            const double w = std::pow (1.0 - d / reach, 8.0);
+            crowding[i].emplace_back (j, w);
+            weight[i] += w;
+          }
+        }
+  }
+  std::priority_queue<std::pair<double, std::uint32_t>> most_crowded;
+  for (std::size_t i = 0; i < m; ++i)
+    most_crowded.emplace (weight[i], static_cast<std::uint32_t> (i));
+  std::vector<bool> removed (m, false);
+  for (std::size_t left = m; left > n;) {
+    const auto [w, i] = most_crowded.top ();
+    most_crowded.pop ();
+    if (removed[i] || w != weight[i])
+      continue; // a stale entry: the weight fell since it was queued
+    removed[i] = true;
+    --left;
+    for (const auto& [j, wij] : crowding[i])
+      if (!removed[j]) {
+        weight[j] -= wij;
+        most_crowded.emplace (weight[j], j);
+      }
+  }
+  Points3 kept;
+  kept.reserve (n);
+  for (std::size_t i = 0; i < m; ++i)
+    if (!removed[i])
+      kept.push_back (candidates[i]);
+  return kept;
+}
+
+/** The (2, 3) torus knot of the KnottedTube, with its first two derivatives. */
+void
+torusKnot (double t, Eigen::Vector3d& c, Eigen::Vector3d& d1, Eigen::Vector3d& d2)
+{
+  const double h = 2.0 + std::cos (3.0 * t), h1 = -3.0 * std::sin (3.0 * t),
+               h2 = -9.0 * std::cos (3.0 * t);
+  const double cu = std::cos (2.0 * t), su = std::sin (2.0 * t);
+  c = {h * cu, h * su, std::sin (3.0 * t)};
+  d1 = {h1 * cu - 2.0 * h * su, h1 * su + 2.0 * h * cu, 3.0 * std::cos (3.0 * t)};
+  d2 = {h2 * cu - 4.0 * h1 * su - 4.0 * h * cu, h2 * su + 4.0 * h1 * cu - 4.0 * h * su,
+        -9.0 * std::sin (3.0 * t)};
+}
+
+/** Point (u, v) in [0, 2 pi)^2 of a parametric shape: tori in (around the axis,
+  * around the tube), the knotted tube in (along the knot, around it, Frenet frame). */
+Eigen::Vector3d
+parametricPoint (SyntheticShape shape, double u, double v)
+{
+  if (shape == SyntheticShape::KnottedTube) {
+    Eigen::Vector3d c, d1, d2;
+    torusKnot (u, c, d1, d2);
+    const Eigen::Vector3d tangent = d1.normalized ();
+    const Eigen::Vector3d binormal = d1.cross (d2).normalized ();
+    const Eigen::Vector3d normal = binormal.cross (tangent);
+    return c + 0.3 * (std::cos (v) * normal + std::sin (v) * binormal);
+  }
+  const double small = shape == SyntheticShape::ThinTorus ? 0.15 : 0.6;
+  const double ring = 1.0 + small * std::cos (v);
+  return {ring * std::cos (u), ring * std::sin (u), small * std::sin (v)};
+}
+
+/** Area element |X_u x X_v| of a parametric shape, by central differences. */
+double
+areaElement (SyntheticShape shape, double u, double v)
+{
+  const double h = 1e-5;
+  const Eigen::Vector3d xu =
+      (parametricPoint (shape, u + h, v) - parametricPoint (shape, u - h, v)) / (2.0 * h);
+  const Eigen::Vector3d xv =
+      (parametricPoint (shape, u, v + h) - parametricPoint (shape, u, v - h)) / (2.0 * h);
+  return xu.cross (xv).norm ();
+}
+
+/** m points uniform per area on a parametric shape: parameters drawn uniformly and
+  * kept with probability area element / its maximum. Sets the shape's area. */
+Points3
+sampleParametric (SyntheticShape shape, std::size_t m, std::mt19937& random, double& area)
+{
+  const int steps = 256;
+  double largest = 0.0, sum = 0.0;
+  for (int i = 0; i < steps; ++i)
+    for (int j = 0; j < steps; ++j) {
+      const double element = areaElement (shape, 2.0 * pi * i / steps, 2.0 * pi * j / steps);
+      largest = std::max (largest, element);
+      sum += element;
     }
-    std::normal_distribution<double> gauss (0.0, options.noise * (hi - lo).norm ());
+  area = 4.0 * pi * pi * sum / (steps * steps);
+  largest *= 1.05; // the grid may miss the peak between its nodes
+  std::uniform_real_distribution<double> angle (0.0, 2.0 * pi), unit (0.0, 1.0);
+  Points3 points;
+  points.reserve (m);
+  while (points.size () < m) {
+    const double u = angle (random), v = angle (random);
+    if (unit (random) * largest < areaElement (shape, u, v))
+      points.push_back (parametricPoint (shape, u, v));
+  }
+  return points;
+}
+
+/** The DoubleTorus' implicit function and its gradient. */
+double
+doubleTorusFunction (const Eigen::Vector3d& p, Eigen::Vector3d& gradient)
+{
+  const double x = p.x (), y = p.y (), z = p.z ();
+  const double q = x * x + y * y;
+  const double g = q * q - x * x + y * y;
+  gradient = {2.0 * g * (4.0 * q * x - 2.0 * x), 2.0 * g * (4.0 * q * y + 2.0 * y), 2.0 * z};
+  return g * g + z * z - 0.01;
+}
+
+/** m points close to uniform per area on the DoubleTorus: uniform points of its box
+  * within a thin shell around it (by first-order distance), projected onto it by
+  * Newton steps along the gradient. Sets the shape's area (shell volume / width). */
+Points3
+sampleDoubleTorus (std::size_t m, std::mt19937& random, double& area)
+{
+  const Eigen::Vector3d half (1.2, 0.6, 0.15);
+  const double shell = 0.005;
+  std::uniform_real_distribution<double> unit (-1.0, 1.0);
+  Points3 points;
+  points.reserve (m);
+  std::size_t tried = 0;
+  while (points.size () < m) {
+    ++tried;
+    Eigen::Vector3d p (half.x () * unit (random), half.y () * unit (random),
+                       half.z () * unit (random));
+    Eigen::Vector3d gradient;
+    double f = doubleTorusFunction (p, gradient);
+    if (std::abs (f) >= shell * gradient.norm ())
+      continue;
+    for (int step = 0; step < 50 && std::abs (f) > 1e-15 * gradient.norm (); ++step) {
+      p -= f * gradient / gradient.squaredNorm ();
+      f = doubleTorusFunction (p, gradient);
+    }
+    points.push_back (p);
+  }
+  area = 8.0 * half.prod () * static_cast<double> (m) / static_cast<double> (tried) /
+         (2.0 * shell);
+  return points;
+}
+
+/** n points evenly spread on a shape, uniform per area. */
+Points3
+sampleUniformly (SyntheticShape shape, std::size_t n, std::mt19937& random)
+{
+  if (n == 0)
+    return {};
+  const std::size_t candidates = 5 * n;
+  double area = 0.0;
+  Points3 points;
+  switch (shape) {
+  case SyntheticShape::ThinTorus:
+  case SyntheticShape::FatTorus:
+  case SyntheticShape::KnottedTube:
+    points = sampleParametric (shape, candidates, random, area);
+    break;
+  case SyntheticShape::DoubleTorus:
+    points = sampleDoubleTorus (candidates, random, area);
+    break;
+  default:
+    return sampleLattice (shape, n, random);
+  }
+  return eliminateCrowded (points, n, area);
+}
+
+/** n points whose density grows smoothly by the factor ratio along the longest axis
+  * of the shape's box: a shuffled uniform cloud, each point kept with probability
+  * proportional to the density there, until n are kept (a larger cloud if too few). */
+Points3
+sampleUnevenly (SyntheticShape shape, std::size_t n, double ratio, std::mt19937& random)
+{
+  if (n == 0)
+    return {};
+  std::uniform_real_distribution<double> unit (0.0, 1.0);
+  for (std::size_t m = n + n / 2 + n;; m *= 2) {
+    Points3 uniform = sampleUniformly (shape, m, random);
+    std::shuffle (uniform.begin (), uniform.end (), random);
+    const BoundingBox box = boundingBox (uniform);
+    // Near-equal extents (a sphere, a torus) differ by sampling: take the first.
+    const Eigen::Vector3d extents = box.hi - box.lo;
+    int axis = 0;
+    while (extents[axis] < 0.99 * extents.maxCoeff ())
+      ++axis;
+    const double extent = box.hi[axis] - box.lo[axis];
+    Points3 kept;
+    kept.reserve (n);
+    for (const auto& p : uniform) {
+      const double s = (p[axis] - box.lo[axis]) / extent;
+      const double density = 1.0 + (ratio - 1.0) * 0.5 * (1.0 - std::cos (pi * s));
+      if (unit (random) * ratio < density)
+        kept.push_back (p);
+      if (kept.size () == n)
+        return kept;
+    }
+  }
+}
+
+} // namespace
+
+int
+syntheticGenus (SyntheticShape shape)
+{
+  switch (shape) {
+  case SyntheticShape::Sphere:
+  case SyntheticShape::Ellipsoid:
+  case SyntheticShape::BumpySphere:
+    return 0;
+  case SyntheticShape::Torus:
+  case SyntheticShape::ThinTorus:
+  case SyntheticShape::FatTorus:
+  case SyntheticShape::KnottedTube:
+    return 1;
+  case SyntheticShape::DoubleTorus:
+    return 2;
+  case SyntheticShape::Disc:
+  case SyntheticShape::HeightField:
+    break;
+  }
+  return -1;
+}
+
+Points3
+sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
+{
+  std::mt19937 random (options.seed);
+  Points3 points = options.uneven > 1.0
+                       ? sampleUnevenly (shape, options.num_points, options.uneven, random)
+                       : sampleUniformly (shape, options.num_points, random);
+  if (options.noise > 0.0 && !points.empty ()) {
+    const BoundingBox box = boundingBox (points);
+    std::normal_distribution<double> gauss (0.0, options.noise * (box.hi - box.lo).norm ());
     for (auto& p : points)
       p += Eigen::Vector3d (gauss (random), gauss (random), gauss (random));
   }
@@ -152,7 +440,9 @@ parseSyntheticShape (const std::string& name, SyntheticShape& shape)
   static const std::pair<const char*, SyntheticShape> names[] = {
       {"sphere", SyntheticShape::Sphere},           {"ellipsoid", SyntheticShape::Ellipsoid},
       {"bumpy_sphere", SyntheticShape::BumpySphere}, {"torus", SyntheticShape::Torus},
-      {"disc", SyntheticShape::Disc},               {"height_field", SyntheticShape::HeightField}};
+      {"disc", SyntheticShape::Disc},               {"height_field", SyntheticShape::HeightField},
+      {"thin_torus", SyntheticShape::ThinTorus},     {"fat_torus", SyntheticShape::FatTorus},
+      {"double_torus", SyntheticShape::DoubleTorus}, {"knotted_tube", SyntheticShape::KnottedTube}};
   for (const auto& entry : names)
     if (name == entry.first) {
       shape = entry.second;

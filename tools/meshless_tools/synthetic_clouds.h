@@ -7,6 +7,7 @@
 #include <pcl/surface/meshless/types.h>
 
 #include <cstdint>
+#include <string>
 
 namespace pcl {
 namespace meshless {
@@ -20,8 +21,22 @@ enum class SyntheticShape
   BumpySphere, ///< sphere with smooth bumps, radius 0.75 .. 1.25 (genus 0)
   Torus,       ///< radii 1 and 0.35 (genus 1: not sphere-like)
   Disc,        ///< flat unit disc in the z = 0 plane (open, one boundary loop)
-  HeightField  ///< graph of a smooth bump over the unit disc (open, one loop)
+  HeightField, ///< graph of a smooth bump over the unit disc (open, one loop)
+  ThinTorus,   ///< radii 1 and 0.15 (genus 1, a thin handle)
+  FatTorus,    ///< radii 1 and 0.6 (genus 1, a small hole)
+  /** Genus 2: the zero set of g(x, y)^2 + z^2 - 0.1^2 with
+    * g = (x^2 + y^2)^2 - x^2 + y^2, a tube around the lemniscate whose two lobes leave
+    * two holes; about 2.1 x 0.7 x 0.2. */
+  DoubleTorus,
+  /** Genus 1: a tube of radius 0.3 around the (2, 3) torus knot (a trefoil)
+    * c(t) = ((2 + cos 3t) cos 2t, (2 + cos 3t) sin 2t, sin 3t), t in [0, 2 pi). */
+  KnottedTube
 };
+
+/** \brief Genus of a closed shape (0 for the sphere-like ones), -1 for the open
+  * ones (Disc, HeightField). */
+int
+syntheticGenus (SyntheticShape shape);
 
 struct SyntheticCloudOptions
 {
@@ -32,16 +47,26 @@ struct SyntheticCloudOptions
   /** \brief Gaussian noise added to every coordinate, as a fraction of the shape's
     * bounding-box diagonal. Default 0. */
   double noise = 0.0;
+  /** \brief Ratio of the densest to the sparsest part of the cloud: the density grows
+    * smoothly along the shape's longest bounding-box axis (the first
+    * of those within 1% of the longest), as
+    * 1 + (uneven - 1) (1 - cos (pi s)) / 2 for s from 0 to 1 along it. 0 or 1:
+    * uniform. */
+  double uneven = 0.0;
 };
 
 /** \brief Points sampled on a shape, close to uniformly per area (a jittered
-  * Fibonacci lattice on closed shapes, a jittered sunflower on discs), so that the
-  * spacing is even without being a regular grid. */
+  * Fibonacci lattice on the sphere-like shapes and the torus, a jittered sunflower on
+  * discs; on the other shapes five times as many random points, uniform per area, of
+  * which the most crowded are removed one at a time), so that the spacing is even
+  * without being a regular grid. With options.uneven > 1, a random subset of a larger
+  * uniform cloud, kept with probability proportional to the density asked for. */
 Points3
 sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options = {});
 
 /** \brief Parse "sphere", "ellipsoid", "bumpy_sphere", "torus", "disc",
-  * "height_field". \return false if the name is unknown. */
+  * "height_field", "thin_torus", "fat_torus", "double_torus", "knotted_tube".
+  * \return false if the name is unknown. */
 bool
 parseSyntheticShape (const std::string& name, SyntheticShape& shape);
 
