@@ -157,6 +157,46 @@ boundingBox (const Points3& points)
   return box;
 }
 
+using Crowding = std::vector<std::vector<std::pair<std::uint32_t, double>>>;
+
+/** For every point, its neighbours closer than reach with the weights
+  * (1 - d / reach)^8 they crowd it by, found through a grid of cells of that size. */
+Crowding
+crowdingNeighbours (const Points3& points, double reach)
+{
+  const Eigen::Vector3d origin = boundingBox (points).lo;
+  auto cellOf = [&] (const Eigen::Vector3d& p) {
+    return ((p - origin) / reach).array ().floor ().cast<std::int64_t> ().eval ();
+  };
+  // Cells count from 0 at the box's corner, their neighbours from -1: shift by one so
+  // that keys stay non-negative (fewer than 2^21 cells per axis).
+  auto key = [] (std::int64_t x, std::int64_t y, std::int64_t z) {
+    return ((x + 1) << 42) | ((y + 1) << 21) | (z + 1);
+  };
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
+  for (std::size_t i = 0; i < points.size (); ++i) {
+    const auto c = cellOf (points[i]);
+    grid[key (c.x (), c.y (), c.z ())].push_back (static_cast<std::uint32_t> (i));
+  }
+  Crowding crowding (points.size ());
+  for (std::size_t i = 0; i < points.size (); ++i) {
+    const auto c = cellOf (points[i]);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto cell = grid.find (key (c.x () + dx, c.y () + dy, c.z () + dz));
+          if (cell == grid.end ())
+            continue;
+          for (const std::uint32_t j : cell->second) {
+            const double d = (points[i] - points[j]).norm ();
+            if (j != i && d < reach)
+              crowding[i].emplace_back (j, std::pow (1.0 - d / reach, 8.0));
+          }
+        }
+  }
+  return crowding;
+}
+
 /** Keeps n of the candidates, removing one at a time the one most crowded by its
   * neighbours within twice the radius of n discs packed on the area (Yuksel's
   * weighted sample elimination): a random cloud becomes evenly spaced, yet
@@ -168,40 +208,11 @@ eliminateCrowded (const Points3& candidates, std::size_t n, double area)
   if (n >= m)
     return candidates;
   const double reach = 2.0 * std::sqrt (area / (2.0 * std::sqrt (3.0) * static_cast<double> (n)));
-  const Eigen::Vector3d origin = boundingBox (candidates).lo;
-  auto cellOf = [&] (const Eigen::Vector3d& p) {
-    return ((p - origin) / reach).array ().floor ().cast<std::int64_t> ().eval ();
-  };
-  // Cells count from 0 at the box's corner, their neighbours from -1: shift by one so
-  // that keys stay non-negative (fewer than 2^21 cells per axis).
-  auto key = [] (std::int64_t x, std::int64_t y, std::int64_t z) {
-    return ((x + 1) << 42) | ((y + 1) << 21) | (z + 1);
-  };
-  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
-  for (std::size_t i = 0; i < m; ++i) {
-    const auto c = cellOf (candidates[i]);
-    grid[key (c.x (), c.y (), c.z ())].push_back (static_cast<std::uint32_t> (i));
-  }
-  std::vector<std::vector<std::pair<std::uint32_t, double>>> crowding (m);
+  const Crowding crowding = crowdingNeighbours (candidates, reach);
   std::vector<double> weight (m, 0.0);
-  for (std::size_t i = 0; i < m; ++i) {
-    const auto c = cellOf (candidates[i]);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto cell = grid.find (key (c.x () + dx, c.y () + dy, c.z () + dz));
-          if (cell == grid.end ())
-            continue;
-          for (const std::uint32_t j : cell->second) {
-            const double d = (candidates[i] - candidates[j]).norm ();
-            if (j == i || d >= reach)
-              continue;
-            const double w = std::pow (1.0 - d / reach, 8.0);
-            crowding[i].emplace_back (j, w);
-            weight[i] += w;
-          }
-        }
-  }
+  for (std::size_t i = 0; i < m; ++i)
+    for (const auto& neighbour : crowding[i])
+      weight[i] += neighbour.second;
   std::priority_queue<std::pair<double, std::uint32_t>> most_crowded;
   for (std::size_t i = 0; i < m; ++i)
     most_crowded.emplace (weight[i], static_cast<std::uint32_t> (i));
