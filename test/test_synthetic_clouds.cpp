@@ -3,7 +3,10 @@
 
 #include "test_support.h"
 
+#include <algorithm>
 #include <cmath>
+#include <iostream>
+#include <vector>
 
 using namespace pcl::meshless;
 
@@ -66,4 +69,205 @@ TEST (SyntheticClouds, NoiseMovesPointsOffTheShape)
   EXPECT_FALSE (parseSyntheticShape (bad, shape));
   EXPECT_TRUE (parseSyntheticShape ("bumpy_sphere", shape));
   EXPECT_EQ (shape, SyntheticShape::BumpySphere);
+}
+
+namespace {
+
+const double tube_radius = 0.3;
+
+/** The (2, 3) torus knot the KnottedTube is built around, as documented. */
+Eigen::Vector3d
+knot (double t)
+{
+  const double h = 2.0 + std::cos (3.0 * t);
+  return {h * std::cos (2.0 * t), h * std::sin (2.0 * t), std::sin (3.0 * t)};
+}
+
+/** Distance from p to the whole knot: a dense scan, refined by ternary search. */
+double
+distanceToKnot (const Eigen::Vector3d& p)
+{
+  const int steps = 4000;
+  const double step = 2.0 * M_PI / steps;
+  int best = 0;
+  for (int i = 1; i < steps; ++i)
+    if ((knot (i * step) - p).squaredNorm () < (knot (best * step) - p).squaredNorm ())
+      best = i;
+  double lo = (best - 2) * step, hi = (best + 2) * step;
+  for (int iteration = 0; iteration < 200; ++iteration) {
+    const double a = lo + (hi - lo) / 3.0, b = hi - (hi - lo) / 3.0;
+    if ((knot (a) - p).squaredNorm () < (knot (b) - p).squaredNorm ())
+      hi = b;
+    else
+      lo = a;
+  }
+  return (knot (0.5 * (lo + hi)) - p).norm ();
+}
+
+/** Distance to the DoubleTorus to first order: |f| / |grad f|. */
+double
+distanceToDoubleTorus (const Eigen::Vector3d& p)
+{
+  const double x = p.x (), y = p.y (), z = p.z ();
+  const double q = x * x + y * y;
+  const double g = q * q - x * x + y * y;
+  const Eigen::Vector3d gradient (2.0 * g * (4.0 * q * x - 2.0 * x),
+                                  2.0 * g * (4.0 * q * y + 2.0 * y), 2.0 * z);
+  return std::abs (g * g + z * z - 0.01) / gradient.norm ();
+}
+
+double
+torusDistance (const Eigen::Vector3d& p, double small)
+{
+  return std::abs (std::hypot (std::hypot (p.x (), p.y ()) - 1.0, p.z ()) - small);
+}
+
+/** 95th over 5th percentile of the nearest-neighbour distances (brute force). */
+double
+spacingSpread (const Points3& points)
+{
+  std::vector<double> nearest (points.size (), 1e300);
+  for (std::size_t i = 0; i < points.size (); ++i)
+    for (std::size_t j = 0; j < points.size (); ++j)
+      if (j != i)
+        nearest[i] = std::min (nearest[i], (points[i] - points[j]).norm ());
+  std::sort (nearest.begin (), nearest.end ());
+  return nearest[nearest.size () * 95 / 100] / nearest[nearest.size () * 5 / 100];
+}
+
+const SyntheticShape new_shapes[] = {SyntheticShape::ThinTorus, SyntheticShape::FatTorus,
+                                     SyntheticShape::DoubleTorus, SyntheticShape::KnottedTube};
+
+} // namespace
+
+TEST (SyntheticClouds, NewShapesPointsLieOnTheirSurfaces)
+{
+  const SyntheticCloudOptions options{3000, 5, 0.0};
+  for (const auto& p : sampleShape (SyntheticShape::ThinTorus, options))
+    ASSERT_LT (torusDistance (p, 0.15), 1e-9 * 0.15);
+  for (const auto& p : sampleShape (SyntheticShape::FatTorus, options))
+    ASSERT_LT (torusDistance (p, 0.6), 1e-9 * 0.6);
+  for (const auto& p : sampleShape (SyntheticShape::DoubleTorus, options))
+    ASSERT_LT (distanceToDoubleTorus (p), 1e-9 * 0.1);
+  // The distance to the whole knot, not only to the point the tube was built from:
+  // were the tube to touch itself, points would lie closer to another strand.
+  for (const auto& p : sampleShape (SyntheticShape::KnottedTube, options))
+    ASSERT_NEAR (distanceToKnot (p), tube_radius, 1e-9 * tube_radius);
+}
+
+TEST (SyntheticClouds, NewShapesSameSeedSameCloudOtherSeedOtherCloud)
+{
+  for (const SyntheticShape shape : new_shapes) {
+    const Points3 a = sampleShape (shape, {800, 1, 0.0});
+    ASSERT_EQ (a.size (), 800u);
+    EXPECT_EQ (a, sampleShape (shape, {800, 1, 0.0}));
+    EXPECT_NE (a, sampleShape (shape, {800, 2, 0.0}));
+    SyntheticCloudOptions uneven{800, 1, 0.0};
+    uneven.uneven = 10.0;
+    EXPECT_EQ (sampleShape (shape, uneven), sampleShape (shape, uneven));
+  }
+}
+
+TEST (SyntheticClouds, NewShapesSpacingIsEven)
+{
+  for (const SyntheticShape shape : new_shapes) {
+    const double spread = spacingSpread (sampleShape (shape, {3000, 7, 0.0}));
+    std::cout << "nearest-neighbour distance, 95th / 5th percentile, shape "
+              << static_cast<int> (shape) << ": " << spread << "\n";
+    EXPECT_LT (spread, 1.6);
+  }
+}
+
+TEST (SyntheticClouds, UnevenDensityFollowsTheRatioOnEveryClosedShape)
+{
+  const double ratio = 10.0;
+  for (int s = 0; s <= static_cast<int> (SyntheticShape::KnottedTube); ++s) {
+    const auto shape = static_cast<SyntheticShape> (s);
+    if (syntheticGenus (shape) < 0)
+      continue;
+    const Points3 uniform = sampleShape (shape, {20000, 3, 0.0});
+    SyntheticCloudOptions options{20000, 3, 0.0};
+    options.uneven = ratio;
+    const Points3 uneven = sampleShape (shape, options);
+    ASSERT_EQ (uneven.size (), 20000u);
+    Eigen::Vector3d lo = uniform.front (), hi = uniform.front ();
+    for (const auto& p : uniform) {
+      lo = lo.cwiseMin (p);
+      hi = hi.cwiseMax (p);
+    }
+    int axis = 0; // the first of the longest axes, as the generator picks it
+    while ((hi - lo)[axis] < 0.99 * (hi - lo).maxCoeff ())
+      ++axis;
+    // Points in the sparse and the dense end slabs, each against the uniform cloud's
+    // count there, so that the slabs' areas cancel.
+    auto counts = [&] (const Points3& points) {
+      std::pair<double, double> ends{0.0, 0.0};
+      for (const auto& p : points) {
+        const double t = (p[axis] - lo[axis]) / (hi[axis] - lo[axis]);
+        ends.first += t < 0.15;
+        ends.second += t > 0.85;
+      }
+      return ends;
+    };
+    const auto base = counts (uniform), skewed = counts (uneven);
+    const double measured = (skewed.second / base.second) / (skewed.first / base.first);
+    std::cout << "density ratio asked " << ratio << ", measured " << measured << ", shape " << s
+              << "\n";
+    EXPECT_GT (measured, ratio / 1.5) << "shape " << s;
+    EXPECT_LT (measured, ratio * 1.5) << "shape " << s;
+  }
+}
+
+TEST (SyntheticClouds, GenusIsDocumented)
+{
+  EXPECT_EQ (syntheticGenus (SyntheticShape::Sphere), 0);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::Ellipsoid), 0);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::BumpySphere), 0);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::Torus), 1);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::ThinTorus), 1);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::FatTorus), 1);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::KnottedTube), 1);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::DoubleTorus), 2);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::Disc), -1);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::HeightField), -1);
+  const std::pair<const char*, SyntheticShape> names[] = {
+      {"thin_torus", SyntheticShape::ThinTorus},
+      {"fat_torus", SyntheticShape::FatTorus},
+      {"double_torus", SyntheticShape::DoubleTorus},
+      {"knotted_tube", SyntheticShape::KnottedTube}};
+  for (const auto& [name, expected] : names) {
+    SyntheticShape shape = SyntheticShape::Sphere;
+    EXPECT_TRUE (parseSyntheticShape (name, shape)) << name;
+    EXPECT_EQ (shape, expected) << name;
+  }
+}
+
+TEST (SyntheticClouds, KnottedTubeDoesNotTouchItself)
+{
+  // Strands of the knot far apart along it (more than three tube diameters of arc)
+  // keep more than a diameter between their axes, and the tube never folds on its
+  // inner side (radius times curvature below 1).
+  const int steps = 3000;
+  const double step = 2.0 * M_PI / steps;
+  std::vector<double> arc (steps + 1, 0.0);
+  for (int i = 0; i < steps; ++i)
+    arc[i + 1] = arc[i] + (knot ((i + 1) * step) - knot (i * step)).norm ();
+  const double length = arc[steps];
+  double closest = 1e300, largest_curvature = 0.0;
+  for (int i = 0; i < steps; ++i) {
+    const Eigen::Vector3d a = knot ((i - 1) * step), b = knot (i * step), c = knot ((i + 1) * step);
+    // Curvature from the circle through three neighbouring points.
+    largest_curvature = std::max (largest_curvature, 2.0 * (b - a).cross (c - b).norm () /
+                                                         ((b - a).norm () * (c - b).norm () *
+                                                          (c - a).norm ()));
+    for (int j = i + 1; j < steps; ++j) {
+      const double along = std::min (arc[j] - arc[i], length - (arc[j] - arc[i]));
+      if (along > 6.0 * tube_radius)
+        closest = std::min (closest, (knot (j * step) - b).norm ());
+    }
+  }
+  std::cout << "knot: closest far strands " << closest << ", largest curvature "
+            << largest_curvature << "\n";
+  EXPECT_GT (closest, 2.0 * tube_radius + 0.1);
+  EXPECT_LT (tube_radius * largest_curvature, 0.9);
 }
