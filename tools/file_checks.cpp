@@ -341,7 +341,8 @@ parsePlyLine (const Tokens& line, PlyLayout& ply)
         property.size = 0;
     }
     if (property.size == 0)
-      return "property line '" + line[1].substr (0, 20) + " ...' has an unknown type";
+      return "property line '" + (line.size () > 1 ? line[1].substr (0, 20) : std::string ()) +
+             " ...' has an unknown type";
     ply.elements.back ().properties.push_back (property);
     return "";
   }

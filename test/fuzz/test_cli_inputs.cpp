@@ -84,6 +84,7 @@ const std::vector<Lie> kLies = {
     {"end_header", "end_headr"},
     {"3 0 1 2", "255 0 1 2"},
     {"property float x", "property float128 x"},
+    {"property float x", "property\n0. float x"}, // a property line with no type
 };
 
 std::vector<Variant>
