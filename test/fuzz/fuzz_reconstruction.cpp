@@ -102,38 +102,43 @@ expectedVertices (const Cloud& cloud, const pcl::Indices& indices)
   return vertices;
 }
 
-} // namespace
-
-extern "C" int
-LLVMFuzzerInitialize (int* /*argc*/, char*** /*argv*/)
+/** What the header bytes ask for. */
+struct FuzzCase
 {
-  // Failures are expected on many inputs; PCL_ERROR / PCL_WARN would flood the log.
-  // MESHLESS_FUZZ_VERBOSE=1 keeps them, to see what the class says on one input.
-  const char* verbose = std::getenv ("MESHLESS_FUZZ_VERBOSE");
-  if (!verbose || std::string (verbose) != "1")
-    pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
-  return 0;
+  int k = 0;
+  pcl::meshless::WeightType weights{};
+  bool disc = false, optimize = true, check_intersections = true, use_radius = false;
+  int polyhedron = 0;
+  bool use_indices = false, user_base_mesh = false, polygons_overload = false;
+  bool allow_intersections = false;
+  std::size_t repeats = 0;
+  double radius_fraction = 0.0; // of the diagonal
+};
+
+FuzzCase
+decodeHeader (const std::uint8_t* data)
+{
+  FuzzCase c;
+  c.k = data[0] % 16;
+  const std::uint8_t flags = data[1];
+  c.weights = static_cast<pcl::meshless::WeightType> (flags & 3);
+  c.disc = flags & 4;
+  c.optimize = !(flags & 8);
+  c.polyhedron = (flags >> 4) & 3;
+  c.check_intersections = !(flags & 64);
+  c.use_radius = flags & 128;
+  c.use_indices = data[3] & 1;
+  c.user_base_mesh = data[3] & 2;
+  c.polygons_overload = data[3] & 4;
+  c.allow_intersections = data[0] & 128;
+  c.repeats = data[3] >> 3;
+  c.radius_fraction = (data[2] + 1) / 256.0;
+  return c;
 }
 
-extern "C" int
-LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
+Cloud::Ptr
+decodeCloud (const std::uint8_t* data, std::size_t size)
 {
-  if (size < kHeader)
-    return 0;
-  const int k = data[0] % 16;
-  const std::uint8_t flags = data[1];
-  const auto weights = static_cast<pcl::meshless::WeightType> (flags & 3);
-  const bool disc = flags & 4;
-  const bool optimize = !(flags & 8);
-  const int polyhedron = (flags >> 4) & 3;
-  const bool check_intersections = !(flags & 64);
-  const bool use_radius = flags & 128;
-  const bool use_indices = data[3] & 1;
-  const bool user_base_mesh = data[3] & 2;
-  const bool polygons_overload = data[3] & 4;
-  const bool allow_intersections = data[0] & 128;
-  const std::size_t repeats = data[3] >> 3;
-
   auto cloud = pcl::make_shared<Cloud> ();
   const std::size_t n = std::min ((size - kHeader) / 12, kMaxPoints);
   bool dense = true;
@@ -144,22 +149,28 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
     dense = dense && pcl::isFinite (cloud->back ());
   }
   cloud->is_dense = dense; // honest: PCL's searches trust it
+  return cloud;
+}
 
-  Reconstruction reconstruction;
+/** Sets the class up as the case asks; returns the indices it was given (or none). */
+pcl::Indices
+configure (const FuzzCase& c, const Cloud::Ptr& cloud, Reconstruction& reconstruction)
+{
+  const std::size_t n = cloud->size ();
   reconstruction.setInputCloud (cloud);
-  reconstruction.setNumberOfNeighbours (k);
-  reconstruction.setWeightType (weights);
-  if (disc)
+  reconstruction.setNumberOfNeighbours (c.k);
+  reconstruction.setWeightType (c.weights);
+  if (c.disc)
     reconstruction.setTopology (Reconstruction::Topology::Disc);
-  reconstruction.setOptimize (optimize);
+  reconstruction.setOptimize (c.optimize);
   reconstruction.setBasePolyhedron (
-      polyhedron == 1   ? pcl::meshless::BasePolyhedron::Octahedron
-      : polyhedron == 2 ? pcl::meshless::BasePolyhedron::Icosahedron
-      : polyhedron == 3 ? pcl::meshless::BasePolyhedron::BySize
-                        : pcl::meshless::BasePolyhedron::Tetrahedron);
-  reconstruction.setCheckSelfIntersections (check_intersections);
-  reconstruction.setAllowSelfIntersections (allow_intersections);
-  if (use_radius) {
+      c.polyhedron == 1   ? pcl::meshless::BasePolyhedron::Octahedron
+      : c.polyhedron == 2 ? pcl::meshless::BasePolyhedron::Icosahedron
+      : c.polyhedron == 3 ? pcl::meshless::BasePolyhedron::BySize
+                          : pcl::meshless::BasePolyhedron::Tetrahedron);
+  reconstruction.setCheckSelfIntersections (c.check_intersections);
+  reconstruction.setAllowSelfIntersections (c.allow_intersections);
+  if (c.use_radius) {
     Eigen::Vector3d lo = Eigen::Vector3d::Constant (INFINITY), hi = -lo;
     for (const auto& p : *cloud)
       if (pcl::isFinite (p)) {
@@ -168,17 +179,17 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
       }
     const double diagonal = (hi - lo).norm ();
     if (std::isfinite (diagonal))
-      reconstruction.setSearchRadius (diagonal * (data[2] + 1) / 256.0);
+      reconstruction.setSearchRadius (diagonal * c.radius_fraction);
   }
   pcl::Indices indices;
-  if (use_indices) {
+  if (c.use_indices) {
     for (std::size_t i = n; i-- > 0;)
       indices.push_back (static_cast<pcl::index_t> (i));
-    for (std::size_t r = 0; r < std::min (repeats, n); ++r)
+    for (std::size_t r = 0; r < std::min (c.repeats, n); ++r)
       indices.push_back (static_cast<pcl::index_t> (r));
     reconstruction.setIndices (pcl::make_shared<pcl::Indices> (indices));
   }
-  if (user_base_mesh && n >= 4) {
+  if (c.user_base_mesh && n >= 4) {
     std::vector<pcl::Vertices> faces (4);
     // Counter-clockwise seen from outside when point 0 is above the other three
     // and they turn counter-clockwise seen from above; inverted otherwise.
@@ -187,68 +198,58 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
       faces[f].vertices.assign (corners[f], corners[f] + 3);
     reconstruction.setBaseMesh ({0, 1, 2, 3}, faces);
   }
+  return indices;
+}
 
-  pcl::PolygonMesh mesh;
-  if (polygons_overload)
-    reconstruction.reconstruct (mesh.polygons);
-  else
-    reconstruction.reconstruct (mesh);
+/** A failure must say why and leave nothing behind. */
+void
+checkFailure (const FuzzCase& c, const pcl::PolygonMesh& mesh,
+              const Reconstruction& reconstruction)
+{
   const auto& report = reconstruction.getReport ();
+  if (report.message.empty ())
+    broken ("failure without a message", reconstruction);
+  // The class checks its result before it reports success; when that check
+  // fails, the class itself calls it a bug.
+  if (report.message.find ("failed its own check") != std::string::npos)
+    broken ("the class rejected its own result", reconstruction);
+  if (!mesh.polygons.empty ())
+    broken ("failure with polygons", reconstruction);
+  if (!c.polygons_overload && !mesh.cloud.data.empty ())
+    broken ("failure with a non-empty output cloud", reconstruction);
+}
 
-  if (!report.success) {
-    if (report.message.empty ())
-      broken ("failure without a message", reconstruction);
-    // The class checks its result before it reports success; when that check
-    // fails, the class itself calls it a bug.
-    if (report.message.find ("failed its own check") != std::string::npos)
-      broken ("the class rejected its own result", reconstruction);
-    if (!mesh.polygons.empty ())
-      broken ("failure with polygons", reconstruction);
-    if (!polygons_overload && !mesh.cloud.data.empty ())
-      broken ("failure with a non-empty output cloud", reconstruction);
-    return 0;
-  }
-
-  // Success: check the output as a user would, on the input cloud's own indices.
-  if (!report.message.empty ())
-    broken ("success with a message", reconstruction);
-  if (!polygons_overload && mesh.cloud.width * mesh.cloud.height != cloud->size ())
-    broken ("the output cloud is not the input cloud", reconstruction);
-  const std::set<pcl::index_t> expected = expectedVertices (*cloud, indices);
-  if (report.num_points != expected.size ())
-    broken ("num_points is not the number of distinct finite points", reconstruction);
-  pcl::meshless::Points3 vertices (cloud->size ());
-  for (std::size_t i = 0; i < cloud->size (); ++i)
-    vertices[i] = (*cloud)[i].getVector3fMap ().cast<double> ();
+/** The polygons as triangles over the cloud, every vertex index checked. */
+pcl::meshless::Triangles
+trianglesOf (const pcl::PolygonMesh& mesh, const Cloud& cloud, std::set<pcl::index_t>& used,
+             const Reconstruction& reconstruction)
+{
   pcl::meshless::Triangles triangles;
-  std::set<pcl::index_t> used;
   for (const auto& polygon : mesh.polygons) {
     if (polygon.vertices.size () != 3)
       broken ("a polygon that is not a triangle", reconstruction);
     pcl::meshless::Triangle t;
     for (int j = 0; j < 3; ++j) {
       const auto v = static_cast<pcl::index_t> (polygon.vertices[j]);
-      if (v < 0 || static_cast<std::size_t> (v) >= cloud->size ())
+      if (v < 0 || static_cast<std::size_t> (v) >= cloud.size ())
         broken ("a vertex index outside the cloud", reconstruction);
       t[j] = v;
       used.insert (v);
     }
     triangles.push_back (t);
   }
-  if (used != expected)
-    broken ("the vertices are not exactly the distinct finite points", reconstruction);
-  pcl::meshless::MeshCheckOptions options;
-  // The class counts pairs on its own (centred) copy of the points, where a
-  // touching pair may round differently than here: its own count is the contract.
-  options.check_self_intersections = false;
-  options.num_threads = 1;
-  const pcl::meshless::MeshReport check =
-      pcl::meshless::checkMesh (vertices, triangles, options);
-  if (!check.success)
-    broken ("checkMesh did not run", reconstruction);
-  if (check_intersections && !allow_intersections && report.mesh.self_intersecting_pairs > 0)
-    broken ("success with self-intersecting pairs, which were not allowed", reconstruction);
-  if (!disc) {
+  return triangles;
+}
+
+/** Sphere mode: closed genus 0 with 2n - 4 triangles, outward; disc mode: one
+  * oriented manifold disc with the reported holes. */
+void
+checkTopology (const FuzzCase& c, const pcl::meshless::MeshReport& check,
+               const pcl::meshless::Triangles& triangles, const pcl::meshless::Points3& vertices,
+               const std::set<pcl::index_t>& expected, const Reconstruction& reconstruction)
+{
+  const auto& report = reconstruction.getReport ();
+  if (!c.disc) {
     if (!check.isSphereLike ())
       broken (
           "sphere mode: not one closed, oriented component of Euler characteristic 2",
@@ -274,5 +275,73 @@ LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
       broken ("disc mode: not one oriented manifold disc with the reported holes",
               reconstruction);
   }
+}
+
+/** A success checked as a user would, on the input cloud's own indices. */
+void
+checkSuccess (const FuzzCase& c, const Cloud::Ptr& cloud, const pcl::Indices& indices,
+              const pcl::PolygonMesh& mesh, const Reconstruction& reconstruction)
+{
+  const auto& report = reconstruction.getReport ();
+  if (!report.message.empty ())
+    broken ("success with a message", reconstruction);
+  if (!c.polygons_overload && mesh.cloud.width * mesh.cloud.height != cloud->size ())
+    broken ("the output cloud is not the input cloud", reconstruction);
+  const std::set<pcl::index_t> expected = expectedVertices (*cloud, indices);
+  if (report.num_points != expected.size ())
+    broken ("num_points is not the number of distinct finite points", reconstruction);
+  pcl::meshless::Points3 vertices (cloud->size ());
+  for (std::size_t i = 0; i < cloud->size (); ++i)
+    vertices[i] = (*cloud)[i].getVector3fMap ().cast<double> ();
+  std::set<pcl::index_t> used;
+  const pcl::meshless::Triangles triangles = trianglesOf (mesh, *cloud, used, reconstruction);
+  if (used != expected)
+    broken ("the vertices are not exactly the distinct finite points", reconstruction);
+  pcl::meshless::MeshCheckOptions options;
+  // The class counts pairs on its own (centred) copy of the points, where a
+  // touching pair may round differently than here: its own count is the contract.
+  options.check_self_intersections = false;
+  options.num_threads = 1;
+  const pcl::meshless::MeshReport check =
+      pcl::meshless::checkMesh (vertices, triangles, options);
+  if (!check.success)
+    broken ("checkMesh did not run", reconstruction);
+  if (c.check_intersections && !c.allow_intersections && report.mesh.self_intersecting_pairs > 0)
+    broken ("success with self-intersecting pairs, which were not allowed", reconstruction);
+  checkTopology (c, check, triangles, vertices, expected, reconstruction);
+}
+
+} // namespace
+
+
+extern "C" int
+LLVMFuzzerInitialize (int* /*argc*/, char*** /*argv*/)
+{
+  // Failures are expected on many inputs; PCL_ERROR / PCL_WARN would flood the log.
+  // MESHLESS_FUZZ_VERBOSE=1 keeps them, to see what the class says on one input.
+  const char* verbose = std::getenv ("MESHLESS_FUZZ_VERBOSE");
+  if (!verbose || std::string (verbose) != "1")
+    pcl::console::setVerbosityLevel (pcl::console::L_ALWAYS);
+  return 0;
+}
+
+extern "C" int
+LLVMFuzzerTestOneInput (const std::uint8_t* data, std::size_t size)
+{
+  if (size < kHeader)
+    return 0;
+  const FuzzCase c = decodeHeader (data);
+  const Cloud::Ptr cloud = decodeCloud (data, size);
+  Reconstruction reconstruction;
+  const pcl::Indices indices = configure (c, cloud, reconstruction);
+  pcl::PolygonMesh mesh;
+  if (c.polygons_overload)
+    reconstruction.reconstruct (mesh.polygons);
+  else
+    reconstruction.reconstruct (mesh);
+  if (reconstruction.getReport ().success)
+    checkSuccess (c, cloud, indices, mesh, reconstruction);
+  else
+    checkFailure (c, mesh, reconstruction);
   return 0;
 }
