@@ -15,7 +15,6 @@
 #include <pcl/surface/meshless/surface_graphs.h>
 
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <numeric>
 

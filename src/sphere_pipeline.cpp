@@ -17,7 +17,6 @@
 #include <pcl/surface/meshless/surface_graphs.h>
 
 #include <algorithm>
-#include <chrono>
 #include <mutex>
 #include <numeric>
 #include <random>

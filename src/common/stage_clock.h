@@ -39,12 +39,6 @@ public:
     return !cancelled_;
   }
 
-  bool
-  cancelled () const
-  {
-    return cancelled_;
-  }
-
 private:
   using Clock = std::chrono::steady_clock;
   const ProgressCallback& callback_;
