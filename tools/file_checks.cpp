@@ -274,6 +274,8 @@ checkPcdBinary (std::ifstream& in, const Header& header, const PcdLayout& pcd,
 
 struct PlyProperty
 {
+  std::string name;
+  std::string type;           // the scalar's type name; empty for a list
   std::size_t size = 0;       // the scalar's, or the list's items'
   std::size_t count_size = 0; // the list's length field; 0 for a scalar
   bool count_signed = false;
@@ -329,8 +331,10 @@ parsePlyLine (const Tokens& line, PlyLayout& ply)
     if (ply.elements.empty ())
       return "a property before any element";
     PlyProperty property;
-    if (line.size () == 3)
+    if (line.size () == 3) {
       property.size = plyTypeSize (line[1]);
+      property.type = line[1];
+    }
     else if (line.size () == 5 && line[1] == "list") {
       property.count_size = plyTypeSize (line[2]);
       property.count_signed = line[2].find ('u') == std::string::npos;
@@ -343,12 +347,65 @@ parsePlyLine (const Tokens& line, PlyLayout& ply)
     if (property.size == 0)
       return "property line '" + (line.size () > 1 ? line[1].substr (0, 20) : std::string ()) +
              " ...' has an unknown type";
+    property.name = line.back ();
     ply.elements.back ().properties.push_back (property);
     return "";
   }
   if (key == "end_header")
     return ply.format.empty () ? "the header has no format line" : "";
   return "unknown header line '" + key.substr (0, 40) + "' (not a PLY file?)";
+}
+
+bool
+isUchar (const PlyProperty& property)
+{
+  return property.type == "uchar" || property.type == "uint8";
+}
+
+/** PCL's reader trusts the vertex layout: it sizes a vertex list from the first
+  * vertex, and packs uchar colours into one field written when blue arrives. Layouts
+  * it would read past its buffer (or read wrongly) are refused here instead. */
+std::string
+checkPlyVertexLayout (const PlyLayout& ply)
+{
+  std::set<std::string> names;
+  for (const PlyElement& element : ply.elements)
+    if (!names.insert (element.name).second)
+      return "element " + element.name.substr (0, 40) + " is declared twice";
+  for (const PlyElement& element : ply.elements) {
+    if (element.name != "vertex")
+      continue;
+    const std::vector<PlyProperty>& properties = element.properties;
+    for (std::size_t i = 0; i < properties.size (); ++i) {
+      const PlyProperty& property = properties[i];
+      if (property.count_size)
+        return "vertex property " + property.name.substr (0, 40) +
+               " is a list (vertex lists are not read)";
+      if (!isUchar (property))
+        continue;
+      const auto named = [&] (std::size_t at, const std::string& name) {
+        return at < properties.size () && isUchar (properties[at]) &&
+               properties[at].name == name;
+      };
+      const auto colours_at = [&] (std::size_t at, std::size_t after_red) {
+        if (after_red > at)
+          return false;
+        for (const std::string prefix : {"", "diffuse_"})
+          if (named (at - after_red, prefix + "red") && named (at - after_red + 1, prefix + "green") &&
+              named (at - after_red + 2, prefix + "blue"))
+            return true;
+        return false;
+      };
+      for (const std::string prefix : {"", "diffuse_"})
+        if ((property.name == prefix + "red" && !colours_at (i, 0)) ||
+            (property.name == prefix + "green" && !colours_at (i, 1)) ||
+            (property.name == prefix + "blue" && !colours_at (i, 2)))
+          return "vertex colours are not uchar red, green, blue in that order";
+      if (property.name == "alpha" && !colours_at (i, 3))
+        return "vertex alpha does not follow uchar red, green, blue";
+    }
+  }
+  return "";
 }
 
 /** An integer of `size` bytes in the file's byte order, or -1 if negative. */
@@ -489,6 +546,8 @@ checkPlyFile (const std::string& path)
   PlyLayout ply;
   for (std::size_t i = 1; error.empty () && i < header.lines.size (); ++i)
     error = parsePlyLine (header.lines[i], ply);
+  if (error.empty ())
+    error = checkPlyVertexLayout (ply);
   if (!error.empty ())
     return error;
   return ply.format == "ascii" ? checkPlyAscii (in, header, ply)

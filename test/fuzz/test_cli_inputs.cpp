@@ -222,3 +222,45 @@ TEST_F (CliInputs, RandomBytesUnderEachExtensionEndInOneLine)
   expectCleanEnd (write ("fields-then-random.pcd", "FIELDS x y z\n" + randomBytes (random, 500)),
                   dir_ / "out.ply", true);
 }
+
+/** A header of twelve octahedron-and-cube points with `extra` vertex properties, each
+  * row carrying `values` after x y z. */
+std::string
+plyWithVertexProperties (const std::string& extra, const std::string& values)
+{
+  std::string ply = "ply\nformat ascii 1.0\nelement vertex 12\nproperty float x\n"
+                    "property float y\nproperty float z\n" +
+                    extra + "end_header\n";
+  const char* rows[] = {"1 0 0", "-1 0 0", "0 1 0", "0 -1 0", "0 0 1", "0 0 -1",
+                        "0.6 0.6 0.6", "-0.6 0.6 0.6", "0.6 -0.6 0.6", "0.6 0.6 -0.6",
+                        "-0.6 -0.6 0.6", "-0.6 -0.6 -0.6"};
+  for (const char* row : rows)
+    ply += std::string (row) + " " + values + "\n";
+  return ply;
+}
+
+TEST_F (CliInputs, PlyVertexLayoutsPclWouldMisreadAreRefused)
+{
+  // PCL's reader sizes a vertex list from the first vertex and writes packed colours
+  // when blue arrives: these layouts would read past its buffer or read wrongly.
+  expectCleanEnd (write ("vertex-list.ply", plyWithVertexProperties (
+                                                "property list uchar float v\n", "2 1 2")),
+                  dir_ / "out.ply", true);
+  expectCleanEnd (write ("blue-alone.ply",
+                         plyWithVertexProperties ("property uchar blue\n", "7")),
+                  dir_ / "out.ply", true);
+  expectCleanEnd (write ("alpha-alone.ply",
+                         plyWithVertexProperties ("property uchar alpha\n", "7")),
+                  dir_ / "out.ply", true);
+  expectCleanEnd (write ("vertex-twice.ply",
+                         "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\n"
+                         "element vertex 1\nproperty float y\nend_header\n1\n2\n"),
+                  dir_ / "out.ply", true);
+  // The layouts PCL reads: colours in order, with alpha after blue.
+  const fs::path coloured = write (
+      "coloured.ply", plyWithVertexProperties ("property uchar red\nproperty uchar green\n"
+                                               "property uchar blue\nproperty uchar alpha\n",
+                                               "10 20 30 255"));
+  const CliRun run = runCli (coloured, dir_ / "out.ply");
+  EXPECT_EQ (run.status, 0) << (run.err.empty () ? "" : run.err.back ());
+}
