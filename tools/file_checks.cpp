@@ -503,6 +503,31 @@ checkPlyAscii (std::ifstream& in, const Header& header, const PlyLayout& ply)
 
 } // namespace
 
+/** PCL's header parser reads on after the DATA line while lines are empty, comments
+  * or start with a header keyword: data that begins so would be taken for header
+  * lines (new fields, a new data offset). Such data is refused. */
+std::string
+checkPcdDataStart (std::ifstream& in, const Header& header)
+{
+  static const char* const keywords[] = {"VERSION", "FIELDS", "COLUMNS", "SIZE",
+                                         "TYPE",    "COUNT",  "WIDTH",   "HEIGHT",
+                                         "VIEWPOINT", "POINTS", "DATA"};
+  in.clear ();
+  in.seekg (static_cast<std::streamoff> (header.data_offset));
+  std::string line;
+  while (std::getline (in, line)) {
+    const std::size_t first = line.find_first_not_of (" \t\r");
+    if (first == std::string::npos || line[first] == '#')
+      continue;
+    for (const char* keyword : keywords)
+      if (line.compare (first, std::string (keyword).size (), keyword) == 0)
+        return std::string ("the data starts with the header keyword ") + keyword +
+               " (PCL's reader would take it for a header line)";
+    return "";
+  }
+  return "";
+}
+
 std::string
 checkPcdFile (const std::string& path)
 {
@@ -526,6 +551,8 @@ checkPcdFile (const std::string& path)
       return std::string ("the header has no ") + key + " line";
   std::uint64_t point_size = 0;
   error = checkPcdLayout (pcd, point_size);
+  if (error.empty ())
+    error = checkPcdDataStart (in, header);
   if (!error.empty ())
     return error;
   return pcd.data == "ascii" ? checkPcdAscii (in, header, pcd)

@@ -239,8 +239,17 @@ plyWithVertexProperties (const std::string& extra, const std::string& values)
   return ply;
 }
 
-TEST_F (CliInputs, PlyVertexLayoutsPclWouldMisreadAreRefused)
+TEST_F (CliInputs, LayoutsPclWouldMisreadAreRefused)
 {
+  // PCL's PCD header parser reads on after DATA while lines start with a keyword:
+  // binary data that begins with one would redefine the fields.
+  std::string data = "FIELDS y\n";
+  data.resize (12 * 12, '\x01');
+  expectCleanEnd (write ("data-like-header.pcd",
+                         "VERSION 0.7\nFIELDS x y z\nSIZE 4 4 4\nTYPE F F F\nCOUNT 1 1 1\n"
+                         "WIDTH 12\nHEIGHT 1\nVIEWPOINT 0 0 0 1 0 0 0\nPOINTS 12\nDATA binary\n" +
+                             data + "tail\n"),
+                  dir_ / "out.ply", true);
   // PCL's reader sizes a vertex list from the first vertex and writes packed colours
   // when blue arrives: these layouts would read past its buffer or read wrongly.
   expectCleanEnd (write ("vertex-list.ply", plyWithVertexProperties (
