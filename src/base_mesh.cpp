@@ -2,6 +2,8 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/union_find.h"
+
 #include <pcl/surface/meshless/base_mesh.h>
 
 #include <algorithm>
@@ -139,7 +141,8 @@ polyhedronBaseMesh (const Points3& points,
       return {};
     mesh.vertices.push_back (best);
   }
-  mesh.faces = p.faces;
+  for (const auto& f : p.faces)
+    mesh.faces.push_back ({f[0], f[1], f[2]});
   // Signed volume of D's faces as placed on the cloud (relative to the centroid):
   // negative means the chosen points turn the other way than the directions.
   double volume = 0.0;
@@ -158,17 +161,20 @@ baseMeshEdges (const BaseMesh& mesh)
 {
   std::set<std::array<int, 2>> edges;
   for (const auto& f : mesh.faces)
-    for (int k = 0; k < 3; ++k)
-      edges.insert ({std::min (f[k], f[(k + 1) % 3]), std::max (f[k], f[(k + 1) % 3])});
+    for (std::size_t k = 0, m = f.size (); k < m; ++k)
+      edges.insert ({std::min (f[k], f[(k + 1) % m]), std::max (f[k], f[(k + 1) % m])});
   return {edges.begin (), edges.end ()};
 }
 
+namespace {
+
+/** Empty if D is a closed, consistently oriented manifold over n points, else why. */
 std::string
-validateBaseMesh (const BaseMesh& mesh, std::size_t n)
+closedManifoldProblem (const BaseMesh& mesh, std::size_t n)
 {
   const int nv = static_cast<int> (mesh.vertices.size ());
-  if (mesh.faces.size () < 4)
-    return "the base mesh needs at least four faces";
+  if (mesh.faces.size () < 2)
+    return "the base mesh needs at least two faces";
   std::set<pcl::index_t> distinct (mesh.vertices.begin (), mesh.vertices.end ());
   if (static_cast<int> (distinct.size ()) != nv)
     return "the base mesh uses a cloud point twice";
@@ -178,15 +184,18 @@ validateBaseMesh (const BaseMesh& mesh, std::size_t n)
   std::map<std::array<int, 2>, int> directed;
   std::vector<std::vector<std::array<int, 2>>> fan (nv); // per vertex: (next, prev) pairs
   for (const auto& f : mesh.faces) {
-    for (int k = 0; k < 3; ++k) {
+    const std::size_t m = f.size ();
+    if (m < 3)
+      return "a base mesh face has fewer than three corners";
+    if (std::set<int> (f.begin (), f.end ()).size () != m)
+      return "a base mesh face repeats a vertex";
+    for (std::size_t k = 0; k < m; ++k) {
       if (f[k] < 0 || f[k] >= nv)
         return "a base mesh face refers to a missing vertex";
-      if (f[k] == f[(k + 1) % 3])
-        return "a base mesh face repeats a vertex";
-      if (++directed[{f[k], f[(k + 1) % 3]}] > 1)
+      if (++directed[{f[k], f[(k + 1) % m]}] > 1)
         return "a base mesh edge is used twice in the same direction (faces not "
                "consistently oriented, or more than two faces on an edge)";
-      fan[f[k]].push_back ({f[(k + 1) % 3], f[(k + 2) % 3]});
+      fan[f[k]].push_back ({f[(k + 1) % m], f[(k + m - 1) % m]});
     }
   }
   for (const auto& [edge, count] : directed)
@@ -209,11 +218,43 @@ validateBaseMesh (const BaseMesh& mesh, std::size_t n)
     if (steps != fan[v].size ())
       return "the faces around a base mesh vertex do not form one fan";
   }
-  const long euler = static_cast<long> (nv) - static_cast<long> (directed.size () / 2) +
-                     static_cast<long> (mesh.faces.size ());
-  if (euler != 2)
-    return "the base mesh is not a sphere (Euler characteristic " + std::to_string (euler) + ")";
+  DisjointSets<int> pieces (nv);
+  int components = nv;
+  for (const auto& f : mesh.faces)
+    for (std::size_t k = 0; k < f.size (); ++k)
+      components -= pieces.join (f[k], f[(k + 1) % f.size ()]) ? 1 : 0;
+  if (components != 1)
+    return "the base mesh is not connected";
   return "";
+}
+
+} // namespace
+
+int
+closedBaseMeshGenus (const BaseMesh& mesh, std::size_t n, std::string& problem)
+{
+  problem = closedManifoldProblem (mesh, n);
+  if (!problem.empty ())
+    return -1;
+  const long euler = static_cast<long> (mesh.vertices.size ()) -
+                     static_cast<long> (baseMeshEdges (mesh).size ()) +
+                     static_cast<long> (mesh.faces.size ());
+  if (euler > 2 || euler % 2 != 0) {
+    problem = "the base mesh's Euler characteristic " + std::to_string (euler) +
+              " is not that of a closed orientable surface";
+    return -1;
+  }
+  return static_cast<int> ((2 - euler) / 2);
+}
+
+std::string
+validateBaseMesh (const BaseMesh& mesh, std::size_t n)
+{
+  std::string problem;
+  const int genus = closedBaseMeshGenus (mesh, n, problem);
+  if (genus > 0)
+    return "the base mesh is not a sphere (genus " + std::to_string (genus) + ")";
+  return problem;
 }
 
 } // namespace meshless

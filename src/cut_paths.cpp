@@ -156,8 +156,8 @@ private:
   {
     sides_.assign (result_.edges.size (), {-1, -1});
     for (int f = 0; f < num_faces_; ++f)
-      for (int k = 0; k < 3; ++k) {
-        const int from = base_.faces[f][k], to = base_.faces[f][(k + 1) % 3];
+      for (std::size_t k = 0, m = base_.faces[f].size (); k < m; ++k) {
+        const int from = base_.faces[f][k], to = base_.faces[f][(k + 1) % m];
         const std::array<int, 2> key = {std::min (from, to), std::max (from, to)};
         const auto e = std::lower_bound (result_.edges.begin (), result_.edges.end (), key) -
                        result_.edges.begin ();
@@ -218,15 +218,15 @@ private:
         order_.push_back (e);
   }
 
-  /** D's cyclic order around each of its vertices: faces (c, a, b), counter-clockwise
-    * from outside, put b directly after a around c. */
+  /** D's cyclic order around each of its vertices: a face (.., b, c, a, ..),
+    * counter-clockwise from outside, puts b directly after a around c. */
   void
   orderAroundCorners ()
   {
     next_around_.resize (corners_);
     for (const auto& f : base_.faces)
-      for (int k = 0; k < 3; ++k)
-        next_around_[f[k]].push_back ({f[(k + 1) % 3], f[(k + 2) % 3]});
+      for (std::size_t k = 0, m = f.size (); k < m; ++k)
+        next_around_[f[k]].push_back ({f[(k + 1) % m], f[(k + m - 1) % m]});
   }
 
   /** The corner of D that follows corner a around corner c, or -1. */
@@ -256,10 +256,19 @@ private:
   guardCornerRings ()
   {
     guard_.assign (n_, -1);
+    guarding_.assign (n_, 0);
+    paths_to_route_.assign (corners_, 0);
+    for (const auto& edge : result_.edges) {
+      ++paths_to_route_[edge[0]];
+      ++paths_to_route_[edge[1]];
+    }
     for (int c = 0; c < corners_; ++c) {
       const pcl::index_t corner = base_.vertices[c];
       for (const pcl::index_t* w = rings_.begin (corner); w != rings_.end (corner); ++w)
+      {
         guard_[*w] = guard_[*w] == -1 ? c : -2;
+        ++guarding_[*w];
+      }
     }
   }
 
@@ -406,7 +415,7 @@ private:
         crossesPath (v, w))
       return false;
     // Into the rings of the end corners only as the first or the last step.
-    return guard_[w] == -1 || (v == route.a && inRingOf (w, route.ca)) || inRingOf (w, route.cb);
+    return guarding_[w] == 0 || (v == route.a && inRingOf (w, route.ca)) || inRingOf (w, route.cb);
   }
 
   /** Routes edge e of D inside its region and splits the region if the path closes
@@ -437,9 +446,24 @@ private:
     first_step_[cb][ca] = path[path.size () - 2];
     is_step_[path[1]] = is_step_[path[path.size () - 2]] = 1;
     routed_[e] = 1;
+    releaseFinishedCorner (ca);
+    releaseFinishedCorner (cb);
     updateRegions (e, path, route.own_region);
     result_.paths[e] = std::move (path);
     return true;
+  }
+
+  /** A corner whose paths all exist needs its ring no longer: later paths may pass
+    * through it (where corners lie close, their rings would otherwise wall the
+    * paths in). */
+  void
+  releaseFinishedCorner (int c)
+  {
+    if (--paths_to_route_[c] > 0)
+      return;
+    const pcl::index_t corner = base_.vertices[c];
+    for (const pcl::index_t* w = rings_.begin (corner); w != rings_.end (corner); ++w)
+      --guarding_[*w];
   }
 
   /** The path's inner points leave every region and block later paths. */
@@ -649,18 +673,19 @@ private:
     flood (queue);
   }
 
-  /** Cyclic order at each vertex c of D: faces (c, a, b), counter-clockwise from
-    * outside, put a's path directly before b's path around c. \return false (the
+  /** Cyclic order at each vertex c of D: a face (.., b, c, a, ..), counter-clockwise
+    * from outside, puts a's path directly before b's path around c. \return false (the
     * message set) if the paths leave some corner in another order. */
   bool
   checkCyclicOrders ()
   {
     for (int c = 0; c < corners_; ++c)
       for (const auto& f : base_.faces) {
-        const int k = static_cast<int> (std::find (f.begin (), f.end (), c) - f.begin ());
-        if (k == 3)
+        const std::size_t m = f.size ();
+        const auto k = static_cast<std::size_t> (std::find (f.begin (), f.end (), c) - f.begin ());
+        if (k == m)
           continue;
-        const char* problem = cyclicOrderProblem (c, f[(k + 1) % 3], f[(k + 2) % 3]);
+        const char* problem = cyclicOrderProblem (c, f[(k + 1) % m], f[(k + m - 1) % m]);
         if (problem) {
           result_.message = problem;
           return false;
@@ -722,6 +747,9 @@ private:
   std::vector<int> region_;
   std::vector<char> blocked_, is_step_, beside_path_;
   std::vector<int> guard_, piece_;
+  // Per point: how many corners with paths still to route hold it in their ring;
+  // per corner: its paths still to route.
+  std::vector<int> guarding_, paths_to_route_;
   std::vector<pcl::index_t> path_prev_, path_next_;
   // Scratch of the path search and the region splits.
   std::vector<double> distance_;

@@ -119,7 +119,7 @@ private:
         on_path_[v] = 1;
   }
 
-  /** Each face's loop from its three paths; every point keeps the region the paths
+  /** Each face's loop from its paths; every point keeps the region the paths
     * cut it into. \return false (the message set) if an edge of D has no path. */
   bool
   buildLoops ()
@@ -129,9 +129,10 @@ private:
     result_.num_side_conflicts = paths_.num_side_conflicts;
     for (std::size_t f = 0; f < faces_; ++f) {
       std::vector<pcl::index_t>& loop = result_.patches[f].loop;
-      for (int k = 0; k < 3; ++k) {
+      const std::vector<int>& face = base_.faces[f];
+      for (std::size_t k = 0; k < face.size (); ++k) {
         const std::vector<pcl::index_t> side =
-            directedPath (paths_, base_.faces[f][k], base_.faces[f][(k + 1) % 3]);
+            directedPath (paths_, face[k], face[(k + 1) % face.size ()]);
         if (side.size () < 2) {
           result_.message = "a face of the base mesh has an edge without a path";
           return false;

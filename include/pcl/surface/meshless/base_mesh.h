@@ -11,15 +11,16 @@
 namespace pcl {
 namespace meshless {
 
-/** \brief The coarse triangulation D of §3 whose vertices are cloud points and whose
-  * topology the result takes (a sphere here). */
+/** \brief The coarse mesh D of §3 and §5 whose vertices are cloud points and whose
+  * topology the result takes. */
 struct BaseMesh
 {
   /** \brief Cloud point of each vertex of D (distinct). */
   std::vector<pcl::index_t> vertices;
   /** \brief Faces of D as positions into `vertices`, counter-clockwise seen from
-    * outside. */
-  std::vector<std::array<int, 3>> faces;
+    * outside: triangles (the polyhedra), or polygons of three or more corners (§5:
+    * each face becomes one disc patch). */
+  std::vector<std::vector<int>> faces;
 };
 
 /** \brief Regular polyhedra whose directions pick the vertices of D. */
@@ -89,6 +90,12 @@ polyhedronBaseMesh (const Points3& points,
   * characteristic 2. \return an empty string if valid, else the reason. */
 std::string
 validateBaseMesh (const BaseMesh& mesh, std::size_t n);
+
+/** \brief The genus of D if it is a valid closed base mesh over n points of any
+  * genus (§5): the checks of validateBaseMesh without the Euler characteristic 2.
+  * \return the genus, or -1 with `problem` set to the reason. */
+int
+closedBaseMeshGenus (const BaseMesh& mesh, std::size_t n, std::string& problem);
 
 /** \brief The edges of D, each once as (smaller position, larger position) into
   * `vertices`, sorted. */
