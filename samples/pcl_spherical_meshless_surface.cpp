@@ -50,7 +50,8 @@ usage (const char* program)
       "  -k N                 nearest neighbours (default 12)\n"
       "  -radius R            ball neighbourhood of radius R instead of k nearest\n"
       "  -weights W           uniform|distance|shape|meanvalue (default meanvalue)\n"
-      "  -topology T          sphere (closed, default) or disc (open surface)\n"
+      "  -topology T          sphere (closed, genus 0, default), closed (closed, of the\n"
+      "                       genus found from the cloud) or disc (open surface)\n"
       "  -optimize 0|1        edge-swap optimization (default 1)\n"
       "  -base B              auto|tetrahedron|octahedron|icosahedron (default auto:\n"
       "                       tetrahedron up to 500000 points, octahedron above)\n"
@@ -70,6 +71,7 @@ namingOptions (std::string message)
 {
   static const std::pair<const char*, const char*> options[] = {
       {"setTopology (Topology::Disc)", "-topology disc"},
+      {"setTopology (Topology::Closed)", "-topology closed"},
       {"setAllowSelfIntersections (true)", "-self_intersections keep"},
       {"setOptimize (false)", "-optimize 0"},
       {"setSearchRadius", "-radius"},
@@ -118,9 +120,12 @@ readChoices (CommandLine& line, Reconstruction& reconstruction)
   const Weights weights[] = {Weights::Uniform, Weights::ReciprocalDistance,
                              Weights::ShapePreserving, Weights::MeanValue};
   const Base bases[] = {Base::BySize, Base::Tetrahedron, Base::Octahedron, Base::Icosahedron};
+  const Reconstruction::Topology topologies[] = {Reconstruction::Topology::Sphere,
+                                                 Reconstruction::Topology::Disc,
+                                                 Reconstruction::Topology::Closed};
   int weight = -1, topology = -1, optimize = -1, base = -1, intersections = -1;
   if (!line.choose ("-weights", {"uniform", "distance", "shape", "meanvalue"}, weight) ||
-      !line.choose ("-topology", {"sphere", "disc"}, topology) ||
+      !line.choose ("-topology", {"sphere", "disc", "closed"}, topology) ||
       !line.choose ("-optimize", {"0", "1"}, optimize) ||
       !line.choose ("-base", {"auto", "tetrahedron", "octahedron", "icosahedron"}, base) ||
       !line.choose ("-self_intersections", {"fail", "keep"}, intersections))
@@ -128,8 +133,7 @@ readChoices (CommandLine& line, Reconstruction& reconstruction)
   if (weight >= 0)
     reconstruction.setWeightType (weights[weight]);
   if (topology >= 0)
-    reconstruction.setTopology (topology == 1 ? Reconstruction::Topology::Disc
-                                              : Reconstruction::Topology::Sphere);
+    reconstruction.setTopology (topologies[topology]);
   if (optimize >= 0)
     reconstruction.setOptimize (optimize == 1);
   if (base >= 0)
@@ -205,6 +209,9 @@ printResult (const Reconstruction& reconstruction, const pcl::PolygonMesh& mesh,
   print_value ("%zu", report.num_points);
   if (reconstruction.getTopology () == Reconstruction::Topology::Sphere)
     print_info (" points (2n - 4 = %zu) in ", 2 * report.num_points - 4);
+  else if (reconstruction.getTopology () == Reconstruction::Topology::Closed)
+    print_info (" points, genus %d (2n - 4 + 4g = %zu), in ", report.stats.genus,
+                2 * report.num_points - 4 + 4 * static_cast<std::size_t> (report.stats.genus));
   else
     print_info (" points, %zu hole(s) kept open, in ", report.holes);
   print_value ("%.2f", seconds);
@@ -220,9 +227,9 @@ printResult (const Reconstruction& reconstruction, const pcl::PolygonMesh& mesh,
     print_warn ("%s: %zu pair(s) of triangles intersect in local folds (noisy or thin "
                 "input); the mesh is %s and oriented all the same\n",
                 kTool, report.mesh.self_intersecting_pairs,
-                reconstruction.getTopology () == Reconstruction::Topology::Sphere
-                    ? "closed"
-                    : "manifold");
+                reconstruction.getTopology () == Reconstruction::Topology::Disc
+                    ? "manifold"
+                    : "closed");
 }
 
 /** The input cloud, generated or read; an empty string or the reason it failed. */

@@ -6,6 +6,8 @@
 
 #include <pcl/surface/meshless/convex_hull.h>
 #include <pcl/surface/meshless/disc_pipeline.h>
+#include <pcl/surface/meshless/grown_base_mesh.h>
+#include <pcl/surface/meshless/surface_graphs.h>
 #include "common/freed_memory.h"
 #include <pcl/surface/meshless/reconstruct.h>
 #include "common/spatial_order.h"
@@ -116,7 +118,7 @@ public:
   , points_ (prepared.points)
   , search_ (search)
   , options_ (options)
-  , sphere_ (options.topology == Topology::Sphere)
+  , closed_ (options.topology != Topology::Disc)
   , record_ ([this] (const ProgressReport& stage) {
     result_.report.stage_seconds.emplace_back (stage.stage, stage.seconds);
     cancelled_ |= options_.progress && !options_.progress (stage);
@@ -157,12 +159,14 @@ private:
   finishAndRetry ();
   bool
   finalVerdict ();
+  int
+  handlesWithDenserNeighbourhoods () const;
 
   const PreparedPoints& prepared_;
   const Points3& points_;
   const NeighbourSearch& search_;
   const ReconstructionOptions& options_;
-  const bool sphere_;
+  const bool closed_;
   CurrentResult result_;
   ProgressCallback record_;
   StageClock clock_;
@@ -217,11 +221,9 @@ Conductor::userBaseMesh (BaseMesh& base_mesh)
     base_mesh.vertices.push_back (it->second);
   }
   for (const auto& face : options_.base_faces) {
-    if (face.vertices.size () != 3)
-      return fail ("base mesh faces must be triangles (setBaseMesh)");
-    base_mesh.faces.push_back ({static_cast<int> (face.vertices[0]),
-                                static_cast<int> (face.vertices[1]),
-                                static_cast<int> (face.vertices[2])});
+    if (face.vertices.size () < 3)
+      return fail ("base mesh faces must have at least three corners (setBaseMesh)");
+    base_mesh.faces.emplace_back (face.vertices.begin (), face.vertices.end ());
   }
   return true;
 }
@@ -235,6 +237,8 @@ Conductor::firstSphereRun ()
   options.release_freed_memory = options_.release_freed_memory;
   options.num_threads = static_cast<int> (options_.num_threads);
   options.progress = record_;
+  options.grown_base_mesh = options_.topology == Topology::Closed;
+  options.refuse_handles = options_.topology == Topology::Sphere && options_.base_faces.empty ();
   // The swaps' angle pass starts inside the patches, where they are triangulated in
   // parallel (flipFlatEdgesInPatch); the swaps find most of it done.
   options.patch_flips.enabled = options_.optimize && options_.swaps.improve_angles;
@@ -244,6 +248,21 @@ Conductor::firstSphereRun ()
     return false;
   first_options_ = options;
   SphereTriangulation first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
+  // No grown D at k neighbours: on anisotropic samples (the vertices of long thin
+  // triangles) the rings of neighbouring points disagree; twice as many agree more.
+  if (!first.success && options.grown_base_mesh && first.stats.genus < 0 &&
+      options_.radius == 0.0 && !cancelled_) {
+    clock_.restart ();
+    Neighbourhoods denser = search_ (2 * options_.k);
+    if (denser.success && denser.num_empty == 0) {
+      SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
+      if (second.success) {
+        first = std::move (second);
+        neighbourhoods_ = std::move (denser);
+        result_.report.neighbours_k = 2 * options_.k;
+      }
+    }
+  }
   if (options_.release_freed_memory)
     releaseFreedMemory (); // the pipeline's graphs and factors
   ReconstructionReport& report = result_.report;
@@ -255,13 +274,18 @@ Conductor::firstSphereRun ()
   }
   // A few dozen points leave the pipeline too little to work with; if they all lie
   // on their convex hull, that is the closed surface through them.
-  if (options_.base_faces.empty ())
+  // Not where the cloud was found to have handles: the hull has none.
+  if (options_.base_faces.empty () && first.stats.genus <= 0) {
     result_.triangles = convexHullThroughAll (points_, max_hull_points);
+    report.stats.genus = 0;
+  }
   if (result_.triangles.empty ()) {
     // Neighbourhoods spanning much of the cloud are not local: name the setter.
     const std::size_t n = points_.size ();
     const bool wide = 4 * neighbourhoods_.neighbours.numEntries () >= n * n;
-    return fail ("the spherical reconstruction failed: " + first.message +
+    return fail (std::string (options_.topology == Topology::Closed ? "the closed"
+                                                                    : "the spherical") +
+                 " reconstruction failed: " + first.message +
                  (wide ? std::string (" (the neighbourhoods span a quarter of the cloud or "
                                       "more on average: lower ") +
                              (options_.radius > 0.0 ? "setSearchRadius)"
@@ -289,13 +313,38 @@ Conductor::firstDiscRun ()
   return true;
 }
 
+/** \brief The genus read again with twice the neighbours, after a sphere run turned
+  * back: on anisotropic samples (the vertices of long thin triangles) the rings at k
+  * disagree too much to grow D. 0 if the cloud does not clearly have handles. */
+int
+Conductor::handlesWithDenserNeighbourhoods () const
+{
+  if (options_.topology != Topology::Sphere || options_.radius > 0.0)
+    return 0;
+  const Neighbourhoods denser = search_ (2 * options_.k);
+  if (!denser.success || denser.num_empty > 0)
+    return 0;
+  SurfaceGraphOptions graphs;
+  graphs.weights = options_.weights;
+  graphs.num_threads = static_cast<int> (options_.num_threads);
+  const SurfaceGraphs surface = buildSurfaceGraphs (points_, denser.neighbours, graphs);
+  return surface.success ? clearHandles (points_, surface.mutual, surface.ordered.rings) : 0;
+}
+
 bool
 Conductor::finalVerdict ()
 {
   ReconstructionReport& report = result_.report;
-  if (sphere_ && finisher_.turnsBack (result_.triangles, result_.normals, report.mesh,
+  const bool turns_back =
+      closed_ && finisher_.turnsBack (result_.triangles, result_.normals, report.mesh,
                                       report.area_against_normals,
-                                      report.distant_intersecting_pairs))
+                                      report.distant_intersecting_pairs);
+  const int genus = turns_back ? handlesWithDenserNeighbourhoods () : 0;
+  if (genus > 0) {
+    report.stats.genus = genus;
+    return fail (handlesRefusal (genus));
+  }
+  if (turns_back)
     return fail ("the cloud does not look like the surface of one sphere-like object: a "
                  "closed mesh through it intersects itself (" +
                  std::to_string (report.mesh.self_intersecting_pairs) + " pairs" +
@@ -305,15 +354,15 @@ Conductor::finalVerdict ()
                       : std::string ()) +
                  ") and " +
                  std::to_string (static_cast<int> (100.0 * report.area_against_normals + 0.5)) +
-                 "% of its area faces against the cloud's normals (a handle, genus > 0; a "
-                 "boundary: use setTopology (Topology::Disc); parts thinner than the point "
+                 "% of its area faces against the cloud's normals (a handle: use setTopology "
+                 "(Topology::Closed); a boundary: use setTopology (Topology::Disc); parts thinner than the point "
                  "spacing: sample them more densely; or far outliers: remove them)");
   if (report.mesh.self_intersecting_pairs > 0 && !options_.allow_self_intersections)
     return fail (std::to_string (report.mesh.self_intersecting_pairs) +
                  " pair(s) of triangles still intersect each other after the repair" +
-                 (sphere_ ? " and the retries, in local folds" : "") +
+                 (closed_ ? " and the retries, in local folds" : "") +
                  " (parts thinner than the point spacing, or noise): the mesh is " +
-                 (sphere_ ? "closed" : "manifold") +
+                 (closed_ ? "closed" : "manifold") +
                  " but not embedded (setAllowSelfIntersections (true) returns it anyway; "
                  "more neighbours or a denser sample may avoid the folds)");
   report.success = true;
@@ -326,17 +375,17 @@ Conductor::run ()
   const std::size_t n = points_.size ();
   result_.report.num_points = n;
   result_.report.num_duplicates = prepared_.num_duplicates;
-  if (n < (sphere_ ? 4u : 3u)) {
+  if (n < (closed_ ? 4u : 3u)) {
     fail (std::string ("a ") +
-          (sphere_ ? "closed surface needs at least four" : "disc needs at least three") +
+          (closed_ ? "closed surface needs at least four" : "disc needs at least three") +
           " distinct finite points; the input has " + std::to_string (n));
     return take ();
   }
   precision_hint_ = precisionHint (prepared_);
-  const std::string flat = sphere_ ? flatness (points_) : "";
+  const std::string flat = closed_ ? flatness (points_) : "";
   if (!flat.empty ())
     fail (flat);
-  else if (searchNeighbourhoods () && (sphere_ ? firstSphereRun () : firstDiscRun ()))
+  else if (searchNeighbourhoods () && (closed_ ? firstSphereRun () : firstDiscRun ()))
     finishAndRetry ();
   return take ();
 }
@@ -355,7 +404,7 @@ Conductor::finishAndRetry ()
     return;
   }
   // Once the callback has said cancel, the call fails, even if a retry ran on.
-  if ((sphere_ && !policy.run (first_options_, search_)) || cancelled_) {
+  if ((closed_ && !policy.run (first_options_, search_)) || cancelled_) {
     fail ("cancelled by the progress callback");
     return;
   }

@@ -29,7 +29,7 @@ MeshFinisher::MeshFinisher (const Points3& points, const ReconstructionOptions& 
 , options_ (options)
 , current_ (current)
 , clock_ (clock)
-, sphere_ (options.topology == Topology::Sphere)
+, closed_ (options.topology != Topology::Disc)
 {
   check_.check_self_intersections = options.check_self_intersections;
   check_.max_listed_intersections = 65536; // for distantIntersectingPairs and the repair
@@ -39,7 +39,7 @@ MeshFinisher::MeshFinisher (const Points3& points, const ReconstructionOptions& 
 double
 MeshFinisher::areaAgainstNormals (const Triangles& triangles, const Normals& normals) const
 {
-  if (!sphere_ || normals.size () != points_.size ())
+  if (!closed_ || normals.size () != points_.size ())
     return 0.0;
   // A mesh turned as a whole faces against its normals everywhere; the check below
   // turns it, so it counts as facing along them.
@@ -52,7 +52,7 @@ MeshFinisher::turnsBack (const Triangles& triangles, const Normals& normals,
                          const MeshReport& mesh, double& against, std::size_t& distant) const
 {
   against = areaAgainstNormals (triangles, normals);
-  distant = sphere_ ? distantIntersectingPairs (points_.size (), triangles,
+  distant = closed_ ? distantIntersectingPairs (points_.size (), triangles,
                                                 mesh.intersecting_pairs, max_local_fold_hops)
                     : 0;
   return mesh.self_intersecting_pairs > 0 &&
@@ -125,7 +125,7 @@ MeshFinisher::optimize (Triangles& triangles, const Normals& normals, FinishedMe
   static_cast<SwapRules&> (swaps) = options_.swaps;
   swaps.renumber_vertices = false; // the points follow a Z-order curve already
   swaps.num_threads = static_cast<int> (options_.num_threads);
-  if (sphere_ && options_.check_self_intersections &&
+  if (closed_ && options_.check_self_intersections &&
       !checkAndRepairRaw (triangles, normals, finished, swaps))
     return "cancelled by the progress callback";
   if (options_.release_freed_memory)
@@ -165,7 +165,10 @@ MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh) const
   // whole (one far outlier with an unreliable normal can carry the orientation
   // vote): reversing every triangle turns it, and only the volume's sign changes.
   // Judged after the repair, since re-meshing an outlier's fan moves much volume.
-  if (sphere_ && mesh.isSphereLike () && mesh.signed_volume < 0.0) {
+  const long genus = current_.report.stats.genus;
+  const bool closed_of_genus = mesh.isClosedManifold () && mesh.components == 1 &&
+                               mesh.euler_characteristic == 2 - 2 * genus;
+  if (closed_ && closed_of_genus && mesh.signed_volume < 0.0) {
     for (auto& t : triangles)
       std::swap (t[1], t[2]);
     mesh.signed_volume = -mesh.signed_volume;
@@ -173,7 +176,9 @@ MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh) const
   const std::size_t n = points_.size ();
   const long holes = static_cast<long> (current_.report.holes);
   const bool valid =
-      sphere_ ? mesh.isSphereLike () && triangles.size () == 2 * n - 4 && mesh.signed_volume > 0.0
+      closed_ ? closed_of_genus && genus >= 0 &&
+                    static_cast<long> (triangles.size ()) == 2 * static_cast<long> (n) - 4 + 4 * genus &&
+                    mesh.signed_volume > 0.0
               : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
                     mesh.boundary_loops == static_cast<std::size_t> (1 + holes) &&
                     mesh.euler_characteristic == 1 - holes;

@@ -89,7 +89,7 @@ private:
   const CurrentResult& current_;
   StageClock& clock_;
   const CsrGraph* neighbours_ = nullptr;
-  bool sphere_;
+  bool closed_;
   MeshCheckOptions check_;
   // Slots the repair and the swaps rewrite after a raw check that listed all its
   // pairs: the final check then tests only pairs with a triangle rewritten since.

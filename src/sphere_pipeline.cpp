@@ -6,8 +6,10 @@
 #include "common/stage_clock.h"
 #include "common/threads.h"
 
-#include <pcl/surface/meshless/cut_paths.h>
 #include "common/freed_memory.h"
+
+#include <pcl/surface/meshless/cut_paths.h>
+#include <pcl/surface/meshless/grown_base_mesh.h>
 #include <pcl/surface/meshless/merge.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/normal_orientation.h>
@@ -81,13 +83,15 @@ public:
       return std::move (result_);
     findCornerCandidates ();
     const bool user_base = !options_.user_base_mesh.faces.empty ();
-    if (user_base) {
-      const std::string problem = validateBaseMesh (options_.user_base_mesh, n_);
-      if (!problem.empty ()) {
-        result_.message = "invalid base mesh: " + problem;
-        return std::move (result_);
-      }
-    }
+    if (options_.refuse_handles && !user_base && hasHandles ())
+      return std::move (result_);
+    if (options_.grown_base_mesh && !user_base && !findGenus ())
+      return std::move (result_);
+    if ((options_.refuse_handles || options_.grown_base_mesh) && !user_base &&
+        !clock_.done ("genus", 0.22, "genus " + std::to_string (result_.stats.genus)))
+      return cancelledRun ();
+    if (user_base && !checkUserBaseMesh ())
+      return std::move (result_);
     const int attempts = user_base ? 1 : std::max (1, options_.max_base_attempts);
     const int first = user_base ? 0 : std::max (0, options_.first_attempt);
     for (int attempt = first; attempt < first + attempts; ++attempt) {
@@ -96,10 +100,12 @@ public:
       if (tryBaseMesh (attempt) == Attempt::Finished)
         return std::move (result_);
     }
-    result_.message = "no base mesh worked after " + std::to_string (attempts) +
-                      " attempt(s) (is the cloud sphere-like? a handle or a boundary leaves no "
-                      "room for the paths; so may parts thinner than the point spacing); the last "
-                      "problem: " + last_problem_;
+    result_.message = "no base mesh worked after " + std::to_string (attempts) + " attempt(s) (" +
+                      (grown_genus_ > 0
+                           ? "parts thinner than the point spacing leave no room for the paths"
+                           : "is the cloud sphere-like? a handle or a boundary leaves no room for "
+                             "the paths; so may parts thinner than the point spacing") +
+                      "); the last problem: " + last_problem_;
     return std::move (result_);
   }
 
@@ -178,14 +184,94 @@ private:
       corner_eligible_.clear (); // a tiny or degenerate cloud: let any point be a corner
   }
 
+  /** A user D: closed and of genus 0, or of any genus with a grown D.
+    * \return false (the message set) if it is not valid. */
+  bool
+  checkUserBaseMesh ()
+  {
+    std::string problem;
+    const int genus = closedBaseMeshGenus (options_.user_base_mesh, n_, problem);
+    if (genus > 0 && !options_.grown_base_mesh)
+      problem = "the base mesh is not a sphere (genus " + std::to_string (genus) +
+                "): use setTopology (Topology::Closed)";
+    if (!problem.empty ()) {
+      result_.message = "invalid base mesh: " + problem;
+      return false;
+    }
+    result_.stats.genus = genus;
+    return true;
+  }
+
+  /** \return true (the message set) if the cloud clearly has handles
+    * (clearHandles); an ambiguous topology is left to the polyhedra. */
+  bool
+  hasHandles ()
+  {
+    const int genus =
+        clearHandles (points_, surface_.mutual, surface_.ordered.rings, corner_eligible_);
+    if (genus == 0)
+      return false;
+    result_.stats.genus = genus;
+    result_.message = handlesRefusal (genus);
+    return true;
+  }
+
+  /** The closed topology's genus, from a D grown once. Genus 0 goes on with the
+    * polyhedra, as the sphere topology does: their few large patches leave the paths
+    * more room than the many regions of a grown D. \return false (the message set)
+    * if no D could be grown: the genus is unknown. */
+  bool
+  findGenus ()
+  {
+    GrownBaseMesh grown =
+        growBaseMesh (points_, surface_.mutual, surface_.ordered.rings, corner_eligible_);
+    if (!grown.success) {
+      result_.stats.genus = -1;
+      result_.message = "the genus could not be found: " + grown.message;
+      return false;
+    }
+    grown_genus_ = result_.stats.genus = grown.genus;
+    first_grown_ = std::move (grown.mesh);
+    return true;
+  }
+
+  /** A grown D for attempt number `attempt`: later attempts start from other
+    * points, so that their regions, paths and corners differ; more seeds would make
+    * smaller regions, which leave the paths less room. */
+  BaseMesh
+  grownBaseMesh (int attempt)
+  {
+    if (attempt == 0 && !first_grown_.faces.empty ())
+      return first_grown_;
+    GrownBaseMeshOptions grow;
+    grow.start = static_cast<std::uint32_t> (attempt);
+    GrownBaseMesh grown =
+        growBaseMesh (points_, surface_.mutual, surface_.ordered.rings, corner_eligible_, grow);
+    if (!grown.success) {
+      last_problem_ = grown.message;
+      return {};
+    }
+    if (grown_genus_ >= 0 && grown.genus != grown_genus_) {
+      last_problem_ = "base meshes grown from different seeds have different genera (" +
+                      std::to_string (grown_genus_) + " and " +
+                      std::to_string (grown.genus) +
+                      "): the topology is ambiguous at this sampling";
+      return {};
+    }
+    grown_genus_ = result_.stats.genus = grown.genus;
+    return std::move (grown.mesh);
+  }
+
   /** D of attempt number `attempt`: the user's, or a rotated polyhedron. Every
     * second attempt tries the next polyhedron: other corners, and patches of
     * another size, fail for other reasons than a mere rotation. */
   BaseMesh
-  baseMesh (int attempt) const
+  baseMesh (int attempt)
   {
     if (!options_.user_base_mesh.faces.empty ())
       return options_.user_base_mesh;
+    if (options_.grown_base_mesh && grown_genus_ > 0)
+      return grownBaseMesh (attempt);
     const BasePolyhedron first_polyhedron = polyhedronForSize (options_.polyhedron, n_);
     const BasePolyhedron polyhedron = options_.alternate_polyhedra && attempt % 2 == 1
                                           ? nextPolyhedron (first_polyhedron)
@@ -199,11 +285,10 @@ private:
   Attempt
   tryBaseMesh (int attempt)
   {
+    last_problem_ = "two base mesh directions picked the same point";
     const BaseMesh base = baseMesh (attempt);
-    if (base.faces.empty ()) {
-      last_problem_ = "two base mesh directions picked the same point";
+    if (base.faces.empty ())
       return Attempt::TryNext;
-    }
     result_.stats.base_faces = base.faces.size ();
     const CutPaths paths =
         computeCutPaths (points_, surface_.mutual, surface_.ordered.rings, base);
@@ -364,6 +449,13 @@ private:
     surface_.ordered.largest_gap = std::move (again.ordered.largest_gap);
   }
 
+  SphereTriangulation
+  cancelledRun ()
+  {
+    cancelled ();
+    return std::move (result_);
+  }
+
   Attempt
   cancelled ()
   {
@@ -380,6 +472,10 @@ private:
   SurfaceGraphs surface_;
   /** Per point: whether it may be a corner of D (empty: any point may). */
   std::vector<char> corner_eligible_;
+  /** The genus of the first D grown in this run (-1 before). */
+  int grown_genus_ = -1;
+  /** The D grown to find the genus (attempt 0's D when the genus is not 0). */
+  BaseMesh first_grown_;
   std::string last_problem_;
 };
 

@@ -157,12 +157,16 @@ public:
     return options_.polyhedron;
   }
 
-  /** \brief A user base mesh of sphere topology (paper §5) instead of a polyhedron.
+  /** \brief A user base mesh D (paper §5) instead of a polyhedron or a grown D: a
+    * closed, consistently oriented manifold, of genus 0 for Topology::Sphere and of
+    * any genus for Topology::Closed (the result takes its genus).
     * \param[in] vertices indices into the input cloud
-    * \param[in] faces triangles over positions into `vertices`, counter-clockwise
-    *            seen from outside
-    * \note validated at reconstruct(); an invalid mesh is an error. Pass empty
-    *       arrays to go back to the polyhedron. */
+    * \param[in] faces polygons of three or more corners over positions into
+    *            `vertices`, counter-clockwise seen from outside; each becomes one
+    *            disc patch, its sides cut paths between its corners
+    * \note validated at reconstruct(); an invalid mesh, or one whose paths cannot
+    *       be routed through the cloud, is an error. Pass empty arrays to go back to
+    *       the polyhedron. */
   void
   setBaseMesh (const pcl::Indices& vertices, const std::vector<pcl::Vertices>& faces)
   {

@@ -148,7 +148,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     PCL_WARN ("[pcl::%s::reconstruct] %zu pair(s) of triangles intersect in local folds "
               "(noisy or thin input); the mesh is %s and oriented all the same\n",
               getClassName ().c_str (), report_.mesh.self_intersecting_pairs,
-              options_.topology == Topology::Sphere ? "closed" : "manifold");
+              options_.topology != Topology::Disc ? "closed" : "manifold");
   // Output triangles refer to the input's indices.
   polygons.resize (result.triangles.size ());
   for (std::size_t t = 0; t < result.triangles.size (); ++t) {

@@ -28,8 +28,9 @@ namespace meshless {
 /** \brief The topology of the surface the cloud samples. */
 enum class Topology
 {
-  Sphere, ///< closed, genus 0 (default)
-  Disc    ///< open, one outer boundary (holes kept open where possible)
+  Sphere, ///< closed, genus 0 (default); a cloud with handles is refused
+  Disc,   ///< open, one outer boundary (holes kept open where possible)
+  Closed  ///< closed, of the genus found from the cloud (ReconstructionReport::stats.genus)
 };
 
 /** \brief What a user chooses; the pipeline's internal settings are derived from it.

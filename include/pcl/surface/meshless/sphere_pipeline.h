@@ -43,6 +43,14 @@ struct SpherePipelineOptions
   /** \brief A user base mesh (vertices are indices into the points); used instead
     * of `polyhedron` when it has faces. */
   BaseMesh user_base_mesh;
+  /** \brief D grown from the cloud (growBaseMesh) instead of a polyhedron, of the
+    * genus the cloud has; a user base mesh may then have any genus too. Default
+    * false (sphere topology). */
+  bool grown_base_mesh = false;
+  /** \brief Before the polyhedra, grow D to find the cloud's genus and stop with a
+    * message naming it if the cloud has handles: a genus-0 mesh would span them.
+    * Default false. */
+  bool refuse_handles = false;
   /** \brief How many rotations of the polyhedron to try when paths cross or a
     * region cannot be formed. Default 12. */
   int max_base_attempts = 12;
@@ -86,6 +94,9 @@ struct SpherePipelineStats
     * SpherePipelineOptions::first_attempt). */
   int base_attempt = 0;
   std::size_t base_faces = 0;
+  /** \brief Genus of D, hence of the result: 0 for the polyhedra; for a grown D the
+    * genus found from the cloud (-1 if it could not be found). */
+  int genus = 0;
   std::size_t path_points = 0;
   std::size_t largest_patch = 0;
   std::size_t side_conflicts = 0;
@@ -107,7 +118,8 @@ struct SpherePipelineStats
 
 struct SphereTriangulation : StageStatus
 {
-  /** \brief 2n - 4 triangles, outward oriented, over the point indices. */
+  /** \brief 2n - 4 + 4g triangles (g = stats.genus), outward oriented, over the
+    * point indices. */
   Triangles triangles;
   /** \brief The points' least-squares normals, oriented outward (the triangles'
     * orientation follows them). */

@@ -1,0 +1,169 @@
+// Closed surfaces of any genus through the PCL class: the genus found from the cloud,
+// the invariants of the result, a user base mesh with a handle, and the sphere
+// topology's refusal of clouds with handles.
+#include <pcl/point_types.h>
+#include <pcl/surface/meshless/grown_base_mesh.h>
+#include <pcl/surface/meshless/mesh_checks.h>
+#include <pcl/surface/meshless/surface_graphs.h>
+#include <pcl/surface/spherical_meshless_reconstruction.h>
+#include <meshless_tools/synthetic_clouds.h>
+
+#include "test_support.h"
+
+#include <map>
+#include <set>
+
+using pcl::meshless::SyntheticShape;
+using Reconstruction = pcl::SphericalMeshlessReconstruction<pcl::PointXYZ>;
+
+namespace {
+
+pcl::PointCloud<pcl::PointXYZ>::Ptr
+toCloud (const pcl::meshless::Points3& points)
+{
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  for (const auto& p : points)
+    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
+                                     static_cast<float> (p.z ())));
+  return cloud;
+}
+
+/** Every promise of the closed topology on a result through all n points of a
+  * cloud of genus g. */
+void
+expectClosedOfGenus (const pcl::PointCloud<pcl::PointXYZ>& cloud,
+                     const std::vector<pcl::Vertices>& polygons,
+                     int genus)
+{
+  const std::size_t n = cloud.size ();
+  ASSERT_EQ (polygons.size (), 2 * n - 4 + 4 * static_cast<std::size_t> (genus))
+      << "2n - 4 + 4g triangles";
+  pcl::meshless::Points3 points;
+  for (const auto& p : cloud)
+    points.emplace_back (p.x, p.y, p.z);
+  pcl::meshless::Triangles triangles;
+  for (const auto& polygon : polygons) {
+    ASSERT_EQ (polygon.vertices.size (), 3u);
+    triangles.push_back ({static_cast<pcl::index_t> (polygon.vertices[0]),
+                          static_cast<pcl::index_t> (polygon.vertices[1]),
+                          static_cast<pcl::index_t> (polygon.vertices[2])});
+  }
+  const pcl::meshless::MeshReport mesh = pcl::meshless::checkMesh (points, triangles);
+  EXPECT_TRUE (mesh.isClosedManifold ()) << pcl::meshless::describe (mesh);
+  EXPECT_TRUE (mesh.isOriented ());
+  EXPECT_EQ (mesh.components, 1u);
+  EXPECT_EQ (mesh.euler_characteristic, 2 - 2 * genus);
+  EXPECT_EQ (mesh.genus, genus);
+  EXPECT_EQ (mesh.unused_vertices, 0u) << "every point a vertex";
+  EXPECT_EQ (mesh.self_intersecting_pairs, 0u);
+  EXPECT_GT (mesh.signed_volume, 0.0) << "oriented outward";
+}
+
+struct Member
+{
+  SyntheticShape shape;
+  std::uint32_t seed;
+  double noise;
+  double uneven;
+};
+
+} // namespace
+
+TEST (ClosedTopology, GeneratedShapesOfGenusZeroToTwoCloseWithTheirGenus)
+{
+  std::vector<Member> family;
+  for (const SyntheticShape shape :
+       {SyntheticShape::Sphere, SyntheticShape::Torus, SyntheticShape::ThinTorus,
+        SyntheticShape::FatTorus, SyntheticShape::DoubleTorus, SyntheticShape::KnottedTube})
+    family.push_back ({shape, 1, 0.0, 0.0});
+  family.push_back ({SyntheticShape::Torus, 2, 0.0, 4.0});       // density 4:1
+  family.push_back ({SyntheticShape::DoubleTorus, 3, 0.0, 4.0}); // density 4:1
+  family.push_back ({SyntheticShape::Torus, 4, 0.001, 0.0});     // light noise
+  for (const Member& m : family) {
+    SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (m.shape)) + " seed " +
+                  std::to_string (m.seed) + " noise " + std::to_string (m.noise) +
+                  " uneven " + std::to_string (m.uneven));
+    const auto cloud =
+        toCloud (pcl::meshless::sampleShape (m.shape, {8000, m.seed, m.noise, m.uneven}));
+    Reconstruction reconstruction;
+    reconstruction.setTopology (Reconstruction::Topology::Closed);
+    reconstruction.setInputCloud (cloud);
+    std::vector<pcl::Vertices> polygons;
+    reconstruction.reconstruct (polygons);
+    const auto& report = reconstruction.getReport ();
+    ASSERT_TRUE (report.success) << report.message;
+    EXPECT_EQ (report.stats.genus, pcl::meshless::syntheticGenus (m.shape));
+    expectClosedOfGenus (*cloud, polygons, pcl::meshless::syntheticGenus (m.shape));
+  }
+}
+
+TEST (ClosedTopology, SphereTopologyRefusesACloudWithHandlesNamingTheGenus)
+{
+  for (const SyntheticShape shape : {SyntheticShape::Torus, SyntheticShape::KnottedTube,
+                                     SyntheticShape::DoubleTorus}) {
+    const auto cloud = toCloud (pcl::meshless::sampleShape (shape, {6000, 1, 0.0, 0.0}));
+    Reconstruction reconstruction;
+    reconstruction.setInputCloud (cloud);
+    std::vector<pcl::Vertices> polygons;
+    reconstruction.reconstruct (polygons);
+    const auto& report = reconstruction.getReport ();
+    EXPECT_FALSE (report.success);
+    EXPECT_TRUE (polygons.empty ());
+    const std::string genus = "genus " + std::to_string (pcl::meshless::syntheticGenus (shape));
+    EXPECT_NE (report.message.find (genus), std::string::npos) << report.message;
+    EXPECT_NE (report.message.find ("Topology::Closed"), std::string::npos) << report.message;
+  }
+}
+
+TEST (ClosedTopology, UserBaseMeshOfGenusOneWithPolygonalFaces)
+{
+  const pcl::meshless::Points3 points =
+      pcl::meshless::sampleShape (SyntheticShape::Torus, {6000, 5, 0.0, 0.0});
+  // A D of genus 1 over the cloud's own indices: the regions grown from it.
+  const pcl::meshless::SurfaceGraphs graphs =
+      pcl::meshless::buildSurfaceGraphs (points, meshless_test::bruteForceKnn (points, 12), {});
+  ASSERT_TRUE (graphs.success) << graphs.message;
+  const pcl::meshless::GrownBaseMesh grown =
+      pcl::meshless::growBaseMesh (points, graphs.mutual, graphs.ordered.rings);
+  ASSERT_TRUE (grown.success) << grown.message;
+  ASSERT_EQ (grown.genus, 1);
+  pcl::Indices vertices (grown.mesh.vertices.begin (), grown.mesh.vertices.end ());
+  std::vector<pcl::Vertices> faces;
+  std::size_t polygonal = 0;
+  for (const auto& f : grown.mesh.faces) {
+    pcl::Vertices face;
+    face.vertices.assign (f.begin (), f.end ());
+    polygonal += f.size () > 3;
+    faces.push_back (face);
+  }
+  EXPECT_GT (polygonal, 0u) << "the faces are polygons, not only triangles";
+
+  const auto cloud = toCloud (points);
+  Reconstruction closed;
+  closed.setTopology (Reconstruction::Topology::Closed);
+  closed.setBaseMesh (vertices, faces);
+  closed.setInputCloud (cloud);
+  std::vector<pcl::Vertices> polygons;
+  closed.reconstruct (polygons);
+  ASSERT_TRUE (closed.getReport ().success) << closed.getReport ().message;
+  EXPECT_EQ (closed.getReport ().stats.genus, 1);
+  expectClosedOfGenus (*cloud, polygons, 1);
+
+  // The same D for a sphere: refused, naming its genus.
+  Reconstruction sphere;
+  sphere.setBaseMesh (vertices, faces);
+  sphere.setInputCloud (cloud);
+  sphere.reconstruct (polygons);
+  EXPECT_FALSE (sphere.getReport ().success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_NE (sphere.getReport ().message.find ("genus 1"), std::string::npos)
+      << sphere.getReport ().message;
+
+  // Not closed: one face left out.
+  faces.pop_back ();
+  closed.setBaseMesh (vertices, faces);
+  closed.reconstruct (polygons);
+  EXPECT_FALSE (closed.getReport ().success);
+  EXPECT_NE (closed.getReport ().message.find ("boundary"), std::string::npos)
+      << closed.getReport ().message;
+}
