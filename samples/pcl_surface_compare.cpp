@@ -50,7 +50,8 @@ usage (const char* program)
       "DIR     receives NAME_greedy.ply, NAME_spherical.ply and a PNG of each\n"
       "options:\n"
       "  -samples N   points sampled per mesh for distances (default 100000)\n"
-      "  -size P      picture width and height in pixels (default 600)\n",
+      "  -size P      picture width and height in pixels (default 600)\n"
+      "  -topology T  sphere (default), closed (any genus) or disc, for the meshless class\n",
       program);
 }
 
@@ -148,6 +149,7 @@ struct CompareOptions
   std::string input, reference_path, out_dir;
   pcl::meshless::MeshDistanceOptions distance;
   int picture_size = 600;
+  pcl::meshless::Topology topology = pcl::meshless::Topology::Sphere;
 };
 
 /** The options, or false with the reason in `error`. */
@@ -156,10 +158,12 @@ parseOptions (int argc, char** argv, CompareOptions& options, std::string& error
 {
   CommandLine line (argc, argv,
                     {{"-h", false}, {"--help", false}, {"-reference", true}, {"-out", true},
-                     {"-samples", true}, {"-size", true}});
+                     {"-samples", true}, {"-size", true}, {"-topology", true}});
   int samples = static_cast<int> (options.distance.samples);
   int& size = options.picture_size;
-  const bool read = line.read ("-reference", options.reference_path) &&
+  int topology = -1;
+  const bool read = line.choose ("-topology", {"sphere", "disc", "closed"}, topology) &&
+                    line.read ("-reference", options.reference_path) &&
                     line.read ("-out", options.out_dir) && line.read ("-samples", samples) &&
                     line.read ("-size", size) &&
                     (samples >= 1 || line.reject ("-samples", "must be 1 or more")) &&
@@ -171,6 +175,11 @@ parseOptions (int argc, char** argv, CompareOptions& options, std::string& error
   if (!error.empty ())
     return false;
   options.distance.samples = static_cast<std::size_t> (samples);
+  const pcl::meshless::Topology topologies[] = {pcl::meshless::Topology::Sphere,
+                                                pcl::meshless::Topology::Disc,
+                                                pcl::meshless::Topology::Closed};
+  if (topology >= 0)
+    options.topology = topologies[topology];
   options.input = line.positional ()[0];
   return true;
 }
@@ -200,7 +209,7 @@ loadInputs (const CompareOptions& options, Cloud& cloud,
 /** Both methods on the same cloud and search tree, each timed and measured alone. */
 std::vector<MethodResult>
 runMethods (const Cloud::Ptr& cloud, const pcl::search::KdTree<pcl::PointXYZ>::Ptr& tree,
-            const meshless_tools::GreedyParameters& parameters)
+            const meshless_tools::GreedyParameters& parameters, pcl::meshless::Topology topology)
 {
   std::vector<MethodResult> results (2);
   pcl::console::TicToc timer;
@@ -220,6 +229,7 @@ runMethods (const Cloud::Ptr& cloud, const pcl::search::KdTree<pcl::PointXYZ>::P
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
   reconstruction.setInputCloud (cloud);
   reconstruction.setSearchMethod (tree);
+  reconstruction.setTopology (topology);
   // A measuring tool: a mesh with folds left is measured, not refused.
   reconstruction.setAllowSelfIntersections (true);
   reconstruction.setReleaseFreedMemory (true); // its peak memory as the CLI measures it
@@ -299,7 +309,7 @@ run (int argc, char** argv)
       "spherical meshless: default options (k = 12, mean value weights, base polyhedron "
       "by size; a mesh with folds left is kept and its pairs counted)\n");
   std::fflush (stdout);
-  std::vector<MethodResult> results = runMethods (cloud, tree, parameters);
+  std::vector<MethodResult> results = runMethods (cloud, tree, parameters, options.topology);
 
   const pcl::meshless::Points3 vertices = toPoints (*cloud);
   const bool with_reference = !options.reference_path.empty ();
