@@ -378,10 +378,10 @@ private:
   fillSmallHoles (std::set<std::array<int, 2>>& used)
   {
     std::map<int, int> hole_next; // along the missing faces' edges
+    std::set<int> visited;        // and vertices on two holes: not simple ones to fill
     for (const auto& e : used)
       if (!used.count ({e[1], e[0]}) && !hole_next.emplace (e[1], e[0]).second)
-        return; // a vertex on two holes: not a simple one to fill
-    std::set<int> visited;
+        visited.insert (e[1]);
     for (const auto& [start, unused] : hole_next) {
       if (visited.count (start))
         continue;

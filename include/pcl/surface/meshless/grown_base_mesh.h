@@ -82,7 +82,7 @@ handlesRefusal (int genus);
 /** \brief Seeds and rounds a sphere run grows D with at most to look for handles:
   * a cloud that needs more has no clear handles at its sampling. */
 constexpr std::size_t max_seeds_for_handles = 512;
-constexpr std::size_t max_rounds_for_handles = 24;
+constexpr std::size_t max_rounds_for_handles = 32;
 
 /** \brief The genus of a cloud if it clearly has handles: of up to three D grown
   * from different starts with at most max_seeds_for_handles seeds and
