@@ -161,6 +161,8 @@ private:
   finalVerdict ();
   int
   handlesWithDenserNeighbourhoods () const;
+  void
+  growWithDenserNeighbourhoods (const SpherePipelineOptions& options, SphereTriangulation& first);
 
   const PreparedPoints& prepared_;
   const Points3& points_;
@@ -248,21 +250,8 @@ Conductor::firstSphereRun ()
     return false;
   first_options_ = options;
   SphereTriangulation first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
-  // No grown D at k neighbours: on anisotropic samples (the vertices of long thin
-  // triangles) the rings of neighbouring points disagree; twice as many agree more.
-  if (!first.success && options.grown_base_mesh && first.stats.genus < 0 &&
-      options_.radius == 0.0 && !cancelled_) {
-    clock_.restart ();
-    Neighbourhoods denser = search_ (2 * options_.k);
-    if (denser.success && denser.num_empty == 0) {
-      SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
-      if (second.success) {
-        first = std::move (second);
-        neighbourhoods_ = std::move (denser);
-        result_.report.neighbours_k = 2 * options_.k;
-      }
-    }
-  }
+  if (!first.success && options.grown_base_mesh && first.stats.genus < 0)
+    growWithDenserNeighbourhoods (options, first);
   if (options_.release_freed_memory)
     releaseFreedMemory (); // the pipeline's graphs and factors
   ReconstructionReport& report = result_.report;
@@ -296,6 +285,27 @@ Conductor::firstSphereRun ()
   clock_.restart ();
   clock_.done ("hull", 0.9, std::to_string (result_.triangles.size ()) + " triangles");
   return true;
+}
+
+/** \brief No grown D at k neighbours: on anisotropic samples (the vertices of long
+  * thin triangles) the rings of neighbouring points disagree; at 2k they agree more.
+  * `first` is replaced if that run succeeds. */
+void
+Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
+                                         SphereTriangulation& first)
+{
+  if (options_.radius > 0.0 || cancelled_)
+    return;
+  clock_.restart ();
+  Neighbourhoods denser = search_ (2 * options_.k);
+  if (!denser.success || denser.num_empty > 0)
+    return;
+  SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
+  if (!second.success)
+    return;
+  first = std::move (second);
+  neighbourhoods_ = std::move (denser);
+  result_.report.neighbours_k = 2 * options_.k;
 }
 
 bool
