@@ -15,7 +15,8 @@
 //            bits 4-5 base polyhedron (0: tetrahedron, 3: by size), bit 6 no self-intersection
 //            check, bit 7 ball neighbourhoods (radius from byte 2)
 //   byte 2   radius = (byte + 1) / 256 of the bounding-box diagonal of the finite
-//            points (only with bit 7 of byte 1)
+//            points (with bit 7 of byte 1); otherwise bit 0 the closed topology
+//            (any genus) unless bit 2 of byte 1 asks for the disc
 //   byte 3   bit 0 setIndices (every point backwards, the first bits 2-7 indices
 //            again), bit 1 a user base mesh on the first four points, bit 2 the
 //            std::vector<pcl::Vertices> overload instead of pcl::PolygonMesh
@@ -107,7 +108,7 @@ struct FuzzCase
 {
   int k = 0;
   pcl::meshless::WeightType weights{};
-  bool disc = false, optimize = true, check_intersections = true, use_radius = false;
+  bool disc = false, closed = false, optimize = true, check_intersections = true, use_radius = false;
   int polyhedron = 0;
   bool use_indices = false, user_base_mesh = false, polygons_overload = false;
   bool allow_intersections = false;
@@ -133,6 +134,7 @@ decodeHeader (const std::uint8_t* data)
   c.allow_intersections = data[0] & 128;
   c.repeats = data[3] >> 3;
   c.radius_fraction = (data[2] + 1) / 256.0;
+  c.closed = !c.disc && !c.use_radius && (data[2] & 1);
   return c;
 }
 
@@ -162,6 +164,8 @@ configure (const FuzzCase& c, const Cloud::Ptr& cloud, Reconstruction& reconstru
   reconstruction.setWeightType (c.weights);
   if (c.disc)
     reconstruction.setTopology (Reconstruction::Topology::Disc);
+  if (c.closed)
+    reconstruction.setTopology (Reconstruction::Topology::Closed);
   reconstruction.setOptimize (c.optimize);
   reconstruction.setBasePolyhedron (
       c.polyhedron == 1   ? pcl::meshless::BasePolyhedron::Octahedron
@@ -241,8 +245,9 @@ trianglesOf (const pcl::PolygonMesh& mesh, const Cloud& cloud, std::set<pcl::ind
   return triangles;
 }
 
-/** Sphere mode: closed genus 0 with 2n - 4 triangles, outward; disc mode: one
-  * oriented manifold disc with the reported holes. */
+/** Sphere mode: closed genus 0 with 2n - 4 triangles, outward; closed mode: the
+  * same with the reported genus g, 2n - 4 + 4g triangles; disc mode: one oriented
+  * manifold disc with the reported holes. */
 void
 checkTopology (const FuzzCase& c, const pcl::meshless::MeshReport& check,
                const pcl::meshless::Triangles& triangles, const pcl::meshless::Points3& vertices,
@@ -250,12 +255,15 @@ checkTopology (const FuzzCase& c, const pcl::meshless::MeshReport& check,
 {
   const auto& report = reconstruction.getReport ();
   if (!c.disc) {
-    if (!check.isSphereLike ())
-      broken (
-          "sphere mode: not one closed, oriented component of Euler characteristic 2",
-          reconstruction);
-    if (triangles.size () != 2 * expected.size () - 4)
-      broken ("sphere mode: not 2n - 4 triangles", reconstruction);
+    const long genus = c.closed ? report.stats.genus : 0;
+    if (genus < 0 || !check.isClosedManifold () || !check.isOriented () ||
+        check.components != 1 || check.euler_characteristic != 2 - 2 * genus)
+      broken ("closed mode: not one closed, oriented component of Euler characteristic "
+              "2 - 2g",
+              reconstruction);
+    if (static_cast<long> (triangles.size ()) !=
+        2 * static_cast<long> (expected.size ()) - 4 + 4 * genus)
+      broken ("closed mode: not 2n - 4 + 4g triangles", reconstruction);
     // Outward. The class computes the volume from other roundings of the same
     // points; allow for that, far below the volume of any cloud that is not flat.
     Eigen::Vector3d lo = Eigen::Vector3d::Constant (INFINITY), hi = -lo;
