@@ -249,6 +249,7 @@ Conductor::firstSphereRun ()
   if (!options_.base_faces.empty () && !userBaseMesh (options.user_base_mesh))
     return false;
   first_options_ = options;
+  first_options_.refuse_handles = false; // the first run looks for them; its retries need not
   SphereTriangulation first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
   if (!first.success && options.grown_base_mesh && first.stats.genus < 0)
     growWithDenserNeighbourhoods (options, first);
