@@ -536,3 +536,17 @@ TEST (SphericalMeshlessReconstruction, RawFoldsAreRepairedBeforeTheSwaps)
   EXPECT_EQ (plain.raw_fold_repair.pairs_before, 0u);
   EXPECT_EQ (plain.fold_repair.pairs_before, repaired.raw_fold_repair.pairs_before);
 }
+
+TEST (SphericalMeshlessReconstruction, AnInstanceReusedWithASmallerCloud)
+{
+  // PCL's indices of all points from the first cloud must not be read as the user's.
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.setInputCloud (generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 2000));
+  reconstruction.reconstruct (polygons);
+  ASSERT_TRUE (reconstruction.getReport ().success) << reconstruction.getReport ().message;
+  reconstruction.setInputCloud (generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::Sphere, 500, 2));
+  reconstruction.reconstruct (polygons);
+  ASSERT_TRUE (reconstruction.getReport ().success) << reconstruction.getReport ().message;
+  expectClosedGenusZero (polygons, range (500));
+}

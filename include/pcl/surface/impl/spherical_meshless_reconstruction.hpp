@@ -20,9 +20,12 @@ bool
 SphericalMeshlessReconstruction<PointInT>::inputIsUsable ()
 {
   report_ = SphericalMeshlessReport ();
+  // PCL's own indices of all points (fake_indices_) may still be those of an earlier,
+  // larger cloud: initCompute renews them; only the user's are checked.
+  const bool user_indices = indices_ && !this->fake_indices_;
   if (!input_)
     report_.message = "no input cloud (setInputCloud)";
-  else if (indices_)
+  else if (user_indices)
     for (const auto i : *indices_)
       if (i < 0 || static_cast<std::size_t> (i) >= input_->size ()) {
         report_.message = "an index lies outside the input cloud (setIndices)";
@@ -40,7 +43,7 @@ SphericalMeshlessReconstruction<PointInT>::inputIsUsable ()
         hi = hi.max (p.getVector3fMap ().template cast<double> ().array ());
       }
     };
-    if (indices_)
+    if (user_indices)
       for (const auto i : *indices_)
         extend ((*input_)[i]);
     else
