@@ -3,6 +3,7 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include "common/union_find.h"
+#include "handles.h"
 
 #include <pcl/surface/meshless/grown_base_mesh.h>
 
@@ -20,6 +21,13 @@ namespace meshless {
 namespace {
 
 constexpr double infinity = std::numeric_limits<double>::infinity ();
+
+/** Seeds the growth starts from for n points. */
+std::size_t
+initialSeedCount (std::size_t n)
+{
+  return std::clamp<std::size_t> (n / 1000, 12, 64);
+}
 
 /** Ring triangles of one triple of regions, as the rings read them. */
 struct TripleSupport
@@ -49,6 +57,10 @@ public:
                           options.max_seeds ? options.max_seeds
                                             : std::min<std::size_t> (n_ / 20, 4096)))
   {}
+
+  BaseMeshGrower (const BaseMeshGrower&) = delete; // face_support_ points into triples_
+  BaseMeshGrower&
+  operator= (const BaseMeshGrower&) = delete;
 
   GrownBaseMesh
   run ()
@@ -84,9 +96,11 @@ public:
       }
       ++result_.rounds;
       if ((max_rounds_ > 0 && result_.rounds > max_rounds_) || !addSeeds (bad)) {
-        result_.message = "no base mesh whose regions are discs was found with up to " +
-                          std::to_string (max_seeds_) +
-                          " seeds: the topology is ambiguous at this sampling (a handle or "
+        result_.message = "no base mesh whose regions are discs was found within " +
+                          std::to_string (max_seeds_) + " seeds" +
+                          (max_rounds_ > 0 ? " and " + std::to_string (max_rounds_) + " rounds"
+                                           : std::string ()) +
+                          ": the topology is ambiguous at this sampling (a handle or "
                           "a gap about as thin as the point spacing, heavy noise, or more "
                           "than one object)";
         result_.mesh = {};
@@ -561,12 +575,6 @@ private:
 };
 
 } // namespace
-
-std::size_t
-initialSeedCount (std::size_t n)
-{
-  return std::clamp<std::size_t> (n / 1000, 12, 64);
-}
 
 std::string
 handlesRefusal (int genus)

@@ -6,6 +6,7 @@
 
 #include <pcl/surface/meshless/convex_hull.h>
 #include <pcl/surface/meshless/disc_pipeline.h>
+#include "handles.h"
 #include <pcl/surface/meshless/grown_base_mesh.h>
 #include <pcl/surface/meshless/surface_graphs.h>
 #include "common/freed_memory.h"
@@ -161,6 +162,8 @@ private:
   finalVerdict ();
   int
   handlesWithDenserNeighbourhoods () const;
+  std::string
+  turnsBackMessage () const;
   void
   growWithDenserNeighbourhoods (const SpherePipelineOptions& options, SphereTriangulation& first);
 
@@ -257,6 +260,8 @@ Conductor::firstSphereRun ()
     releaseFreedMemory (); // the pipeline's graphs and factors
   ReconstructionReport& report = result_.report;
   report.stats = first.stats;
+  if (options.grown_base_mesh)
+    first_options_.known_genus = first.stats.genus;
   if (first.success) {
     result_.triangles = std::move (first.triangles);
     result_.normals = std::move (first.normals);
@@ -267,7 +272,8 @@ Conductor::firstSphereRun ()
   // Not where the cloud was found to have handles: the hull has none.
   if (options_.base_faces.empty () && first.stats.genus <= 0) {
     result_.triangles = convexHullThroughAll (points_, max_hull_points);
-    report.stats.genus = 0;
+    if (!result_.triangles.empty ())
+      report.stats.genus = 0;
   }
   if (result_.triangles.empty ()) {
     // Neighbourhoods spanning much of the cloud are not local: name the setter.
@@ -299,7 +305,8 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
     return;
   clock_.restart ();
   Neighbourhoods denser = search_ (2 * options_.k);
-  if (!denser.success || denser.num_empty > 0)
+  if (!denser.success || denser.num_empty > 0 ||
+      !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (2 * options_.k)))
     return;
   SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
   if (!second.success)
@@ -342,6 +349,29 @@ Conductor::handlesWithDenserNeighbourhoods () const
   return surface.success ? clearHandles (points_, surface.mutual, surface.ordered.rings) : 0;
 }
 
+/** \brief Why a closed mesh that turns back over itself is refused, with what to
+  * change for the topology asked for. */
+std::string
+Conductor::turnsBackMessage () const
+{
+  const ReconstructionReport& report = result_.report;
+  const bool sphere = options_.topology == Topology::Sphere;
+  return std::string ("the cloud does not look like the surface of one ") +
+         (sphere ? "sphere-like" : "closed") +
+         " object: a closed mesh through it intersects itself (" +
+         std::to_string (report.mesh.self_intersecting_pairs) + " pairs" +
+         (report.distant_intersecting_pairs > 0
+              ? ", " + std::to_string (report.distant_intersecting_pairs) +
+                    " of them between parts of it far apart"
+              : std::string ()) +
+         ") and " +
+         std::to_string (static_cast<int> (100.0 * report.area_against_normals + 0.5)) +
+         "% of its area faces against the cloud's normals (" +
+         (sphere ? "a handle: use setTopology (Topology::Closed); " : "") +
+         "a boundary: use setTopology (Topology::Disc); parts thinner than the point "
+         "spacing: sample them more densely; or far outliers: remove them)";
+}
+
 bool
 Conductor::finalVerdict ()
 {
@@ -356,18 +386,7 @@ Conductor::finalVerdict ()
     return fail (handlesRefusal (genus));
   }
   if (turns_back)
-    return fail ("the cloud does not look like the surface of one sphere-like object: a "
-                 "closed mesh through it intersects itself (" +
-                 std::to_string (report.mesh.self_intersecting_pairs) + " pairs" +
-                 (report.distant_intersecting_pairs > 0
-                      ? ", " + std::to_string (report.distant_intersecting_pairs) +
-                            " of them between parts of it far apart"
-                      : std::string ()) +
-                 ") and " +
-                 std::to_string (static_cast<int> (100.0 * report.area_against_normals + 0.5)) +
-                 "% of its area faces against the cloud's normals (a handle: use setTopology "
-                 "(Topology::Closed); a boundary: use setTopology (Topology::Disc); parts thinner than the point "
-                 "spacing: sample them more densely; or far outliers: remove them)");
+    return fail (turnsBackMessage ());
   if (report.mesh.self_intersecting_pairs > 0 && !options_.allow_self_intersections)
     return fail (std::to_string (report.mesh.self_intersecting_pairs) +
                  " pair(s) of triangles still intersect each other after the repair" +

@@ -252,7 +252,7 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
     current_.normals = std::move (other.normals);
     current_.report.stats = other.stats;
     if (denser_)
-      current_.report.neighbours_k = options_.k + 2;
+      current_.report.neighbours_k = denser_k_;
     current_.adopt (std::move (finished));
     kept = true;
   }
@@ -309,12 +309,14 @@ RetryPolicy::retryDenser (const SpherePipelineOptions& first_options,
   // one-sided or spanning the part; two more close it. Costs up to as many runs
   // again, only on clouds that would otherwise keep their pairs.
   clock_.restart ();
-  denser_neighbourhoods_ = search (options_.k + 2);
+  // Two more than the first run used (a closed run may have needed 2k already).
+  denser_k_ = std::max (options_.k, current_.report.neighbours_k) + 2;
+  denser_neighbourhoods_ = search (denser_k_);
   if (!denser_neighbourhoods_.success || denser_neighbourhoods_.num_empty != 0)
     return true;
   if (!clock_.done ("neighbourhoods", 0.02,
                     std::to_string (points_.size ()) + " points, k = " +
-                        std::to_string (options_.k + 2)))
+                        std::to_string (denser_k_)))
     return false;
   neighbours_ = &denser_neighbourhoods_.neighbours;
   denser_ = true;

@@ -143,6 +143,7 @@ private:
   StageClock& clock_;
   const CsrGraph* neighbours_ = nullptr;
   bool denser_ = false;
+  int denser_k_ = 0;
   Neighbourhoods denser_neighbourhoods_;
 };
 

@@ -9,6 +9,7 @@
 #include "common/freed_memory.h"
 
 #include <pcl/surface/meshless/cut_paths.h>
+#include "handles.h"
 #include <pcl/surface/meshless/grown_base_mesh.h>
 #include <pcl/surface/meshless/merge.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
@@ -85,7 +86,9 @@ public:
     const bool user_base = !options_.user_base_mesh.faces.empty ();
     if (options_.refuse_handles && !user_base && hasHandles ())
       return std::move (result_);
-    if (options_.grown_base_mesh && !user_base && !findGenus ())
+    if (options_.grown_base_mesh && !user_base && options_.known_genus >= 0)
+      grown_genus_ = result_.stats.genus = options_.known_genus;
+    else if (options_.grown_base_mesh && !user_base && !findGenus ())
       return std::move (result_);
     if ((options_.refuse_handles || options_.grown_base_mesh) && !user_base &&
         !clock_.done ("genus", 0.22, "genus " + std::to_string (result_.stats.genus)))

@@ -167,3 +167,33 @@ TEST (ClosedTopology, UserBaseMeshOfGenusOneWithPolygonalFaces)
   EXPECT_NE (closed.getReport ().message.find ("boundary"), std::string::npos)
       << closed.getReport ().message;
 }
+
+TEST (ClosedTopology, TwoObjectsAndAnUnclearGenusAreErrorsWithGenusUnknown)
+{
+  auto two = toCloud (pcl::meshless::sampleShape (SyntheticShape::Sphere, {2000, 1, 0.0, 0.0}));
+  for (const auto& p : pcl::meshless::sampleShape (SyntheticShape::Torus, {2000, 2, 0.0, 0.0}))
+    two->push_back (pcl::PointXYZ (static_cast<float> (p.x () + 10.0), static_cast<float> (p.y ()),
+                                   static_cast<float> (p.z ())));
+  Reconstruction reconstruction;
+  reconstruction.setTopology (Reconstruction::Topology::Closed);
+  reconstruction.setInputCloud (two);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_NE (reconstruction.getReport ().message.find ("disconnected"), std::string::npos)
+      << reconstruction.getReport ().message;
+
+  // 150 points on a long ellipsoid: too few for regions that are discs. The genus
+  // is unknown, and said so.
+  const auto sparse =
+      toCloud (pcl::meshless::sampleShape (SyntheticShape::Ellipsoid, {150, 1, 0.0, 0.0}));
+  reconstruction.setInputCloud (sparse);
+  reconstruction.reconstruct (polygons);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_EQ (reconstruction.getReport ().stats.genus, -1);
+  EXPECT_NE (reconstruction.getReport ().message.find ("genus could not be found"),
+             std::string::npos)
+      << reconstruction.getReport ().message;
+}

@@ -32,7 +32,10 @@ using SphericalMeshlessReport = meshless::ReconstructionReport;
   *
   * For n distinct points the result has exactly 2n - 4 triangles, every point is a
   * vertex, every edge is shared by two triangles used in opposite directions, one
-  * component, Euler characteristic 2, normals pointing outward. The class checks
+  * component, Euler characteristic 2, normals pointing outward. With
+  * setTopology (Topology::Closed) the genus g is found from the cloud (base meshes
+  * grown from it, paper §5) and the result has 2n - 4 + 4g triangles and Euler
+  * characteristic 2 - 2g (getReport ().stats.genus). The class checks
   * these invariants on its own result; if they do not hold (or a stage fails) it
   * logs PCL_ERROR with the cause and returns an empty mesh. Self-intersecting
   * triangle pairs are counted too (getReport().mesh.self_intersecting_pairs; unless
@@ -58,9 +61,9 @@ using SphericalMeshlessReport = meshless::ReconstructionReport;
   * Inner boundary loops (holes) are kept open when they can be cut out cleanly;
   * otherwise the reconstruction stops with a message saying so.
   *
-  * \note Surfaces of higher genus are not sphere-like: the class rejects them as
-  *       described above, or (if the closed mesh happens not to intersect itself)
-  *       returns a valid genus-0 mesh through their points.
+  * \note In the sphere topology a cloud that clearly has handles is refused with a
+  *       message naming its genus; a handle the grown regions cannot see at the
+  *       sampling and that leaves no fold gives a genus-0 mesh through the points.
   * \ingroup surface
   */
 template <typename PointInT>
@@ -117,7 +120,8 @@ public:
     return options_.radius;
   }
 
-  /** \brief Closed sphere-like object (default) or open disc-like surface. */
+  /** \brief Closed sphere-like object (default), closed object of the genus found
+    * in the cloud (Closed), or open disc-like surface (Disc). */
   inline void
   setTopology (Topology topology)
   {

@@ -85,9 +85,10 @@ polyhedronBaseMesh (const Points3& points,
                     CornerPlacement placement = CornerPlacement::Farthest);
 
 /** \brief Check that D is a valid sphere-topology base mesh over n points: at least
-  * 4 faces, distinct in-range vertices, every edge in exactly two faces used in
-  * opposite directions, every vertex's faces forming one fan, Euler
-  * characteristic 2. \return an empty string if valid, else the reason. */
+  * two faces of three or more corners, distinct in-range vertices, every edge in
+  * exactly two faces used in opposite directions, every vertex's faces forming one
+  * fan, connected, Euler characteristic 2. \return an empty string if valid, else
+  * the reason (naming the genus of a closed D of higher genus). */
 std::string
 validateBaseMesh (const BaseMesh& mesh, std::size_t n);
 

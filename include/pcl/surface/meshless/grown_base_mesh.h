@@ -13,7 +13,7 @@ namespace meshless {
 struct GrownBaseMeshOptions
 {
   /** \brief Farthest-point seeds to start from; 0 chooses from the number of points
-    * (initialSeedCount). */
+    * (one per thousand, 12 to 64). */
   std::size_t initial_seeds = 0;
   /** \brief Seeds the growth may reach while the conditions fail; 0 chooses from the
     * number of points (a region keeps at least a few dozen points on average). */
@@ -44,10 +44,6 @@ struct GrownBaseMesh : StageStatus
   std::size_t rounds = 0;
 };
 
-/** \brief Seeds the growth starts from for n points. */
-std::size_t
-initialSeedCount (std::size_t n);
-
 /** \brief The base complex of §5 grown from the cloud instead of picked from a list.
   *
   * Farthest-point seeds (geodesic along the graph); regions grown from them by one
@@ -74,25 +70,6 @@ growBaseMesh (const Points3& points,
               const CsrGraph& rings,
               const std::vector<char>& eligible = {},
               const GrownBaseMeshOptions& options = {});
-
-/** \brief Why a closed genus-0 mesh is refused for a cloud of genus g > 0. */
-std::string
-handlesRefusal (int genus);
-
-/** \brief Seeds and rounds a sphere run grows D with at most to look for handles:
-  * a cloud that needs more has no clear handles at its sampling. */
-constexpr std::size_t max_seeds_for_handles = 512;
-constexpr std::size_t max_rounds_for_handles = 32;
-
-/** \brief The genus of a cloud if it clearly has handles: of up to three D grown
-  * from different starts with at most max_seeds_for_handles seeds and
-  * max_rounds_for_handles rounds, two find it and
-  * none finds another. \return the genus, or 0. */
-int
-clearHandles (const Points3& points,
-              const CsrGraph& graph,
-              const CsrGraph& rings,
-              const std::vector<char>& eligible = {});
 
 } // namespace meshless
 } // namespace pcl

@@ -51,6 +51,9 @@ struct SpherePipelineOptions
     * message naming it if the cloud has handles: a genus-0 mesh would span them.
     * Default false. */
   bool refuse_handles = false;
+  /** \brief With a grown D: the genus an earlier run found (a retry need not grow
+    * D once more to know it); -1 to find it. Default -1. */
+  int known_genus = -1;
   /** \brief How many rotations of the polyhedron to try when paths cross or a
     * region cannot be formed. Default 12. */
   int max_base_attempts = 12;
