@@ -2,6 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/fans.h"
 #include "common/union_find.h"
 
 #include <pcl/surface/meshless/base_mesh.h>
@@ -204,18 +205,7 @@ closedManifoldProblem (const BaseMesh& mesh, std::size_t n)
   for (int v = 0; v < nv; ++v) {
     if (fan[v].empty ())
       return "a base mesh vertex is in no face";
-    // The faces around v form one cycle: follow next -> prev links.
-    std::size_t steps = 0;
-    int start = fan[v][0][0], current = start;
-    do {
-      auto it = std::find_if (fan[v].begin (), fan[v].end (),
-                              [&] (const std::array<int, 2>& e) { return e[1] == current; });
-      if (it == fan[v].end ())
-        return "the faces around a base mesh vertex do not form one fan";
-      current = (*it)[0];
-      ++steps;
-    } while (current != start && steps <= fan[v].size ());
-    if (steps != fan[v].size ())
+    if (!isOneFan (fan[v]))
       return "the faces around a base mesh vertex do not form one fan";
   }
   DisjointSets<int> pieces (nv);

@@ -2,6 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include "common/fans.h"
 #include "common/union_find.h"
 #include "handles.h"
 
@@ -172,20 +173,31 @@ private:
     }
   }
 
+  /** The farthest point from the seeds among those offered, eligible ones first. */
+  struct Farthest
+  {
+    pcl::index_t eligible = -1, other = -1;
+  };
+
+  void
+  offer (std::size_t v, Farthest& farthest) const
+  {
+    pcl::index_t& slot = isEligible (v) ? farthest.eligible : farthest.other;
+    if (slot < 0 || distance_[v] > distance_[slot])
+      slot = static_cast<pcl::index_t> (v);
+  }
+
   /** The reached point farthest from the seeds, eligible ones first; -1 if no
     * point is reached. */
   pcl::index_t
   farthestPoint () const
   {
-    pcl::index_t best = -1, fallback = -1;
-    for (std::size_t v = 0; v < n_; ++v) {
-      if (distance_[v] == infinity)
-        continue; // another component: not grown into
-      pcl::index_t& slot = isEligible (v) ? best : fallback;
-      if (slot < 0 || distance_[v] > distance_[slot])
-        slot = static_cast<pcl::index_t> (v);
-    }
-    return best >= 0 && distance_[best] > 0.0 ? best : fallback;
+    Farthest farthest;
+    for (std::size_t v = 0; v < n_; ++v)
+      if (distance_[v] != infinity) // else another component: not grown into
+        offer (v, farthest);
+    return farthest.eligible >= 0 && distance_[farthest.eligible] > 0.0 ? farthest.eligible
+                                                                        : farthest.other;
   }
 
   /** A further seed in every region of `bad`, at its point farthest from its seed
@@ -194,24 +206,22 @@ private:
   bool
   addSeeds (const std::set<int>& bad)
   {
-    std::vector<pcl::index_t> best (seeds_.size (), -1), fallback (seeds_.size (), -1);
+    std::vector<Farthest> farthest (seeds_.size ());
     for (std::size_t v = 0; v < n_; ++v) {
       const int r = region_[v];
-      if (r < 0 || distance_[v] == 0.0 || !bad.count (r))
-        continue;
-      pcl::index_t& slot = isEligible (v) ? best[r] : fallback[r];
-      if (slot < 0 || distance_[v] > distance_[slot])
-        slot = static_cast<pcl::index_t> (v);
+      if (r >= 0 && distance_[v] > 0.0 && bad.count (r))
+        offer (v, farthest[r]);
     }
+    const auto pick = [&] (int r) {
+      return farthest[r].eligible >= 0 ? farthest[r].eligible : farthest[r].other;
+    };
     // One seed per group of touching bad regions, in the widest first: a problem
     // usually spans a few regions, and a seed in each would shrink all regions
     // faster than the problems need (small regions leave the paths no room).
     std::vector<std::pair<double, int>> widest;
-    for (int r : bad) {
-      const pcl::index_t far = best[r] >= 0 ? best[r] : fallback[r];
-      if (far >= 0)
-        widest.emplace_back (distance_[far], r);
-    }
+    for (int r : bad)
+      if (pick (r) >= 0)
+        widest.emplace_back (distance_[pick (r)], r);
     std::sort (widest.rbegin (), widest.rend ());
     const std::vector<std::set<int>> touching = touchingRegions (bad);
     std::set<int> covered;
@@ -219,7 +229,7 @@ private:
     for (const auto& [width, r] : widest) {
       if (covered.count (r))
         continue;
-      added.push_back (best[r] >= 0 ? best[r] : fallback[r]);
+      added.push_back (pick (r));
       covered.insert (r);
       covered.insert (touching[r].begin (), touching[r].end ());
     }
@@ -237,16 +247,11 @@ private:
   touchingRegions (const std::set<int>& among) const
   {
     std::vector<std::set<int>> touching (seeds_.size ());
-    for (std::size_t v = 0; v < n_; ++v) {
-      const int a = region_[v];
-      if (a < 0 || !among.count (a))
-        continue;
-      for (const pcl::index_t* w = graph_.begin (v); w != graph_.end (v); ++w) {
-        const int b = region_[*w];
-        if (b >= 0 && b != a && among.count (b))
-          touching[a].insert (b);
+    for (const auto& [pair, count] : touches_)
+      if (among.count (pair[0]) && among.count (pair[1])) {
+        touching[pair[0]].insert (pair[1]);
+        touching[pair[1]].insert (pair[0]);
       }
-    }
     return touching;
   }
 
@@ -255,9 +260,8 @@ private:
   std::set<int>
   readDual ()
   {
-    triples_.clear ();
-    collectTriples (triples_);
-    const auto& triples = triples_;
+    collectTriples ();
+    countTouches ();
     std::set<int> bad;
     dual_faces_.clear ();
     face_support_.clear ();
@@ -265,7 +269,7 @@ private:
     // faces best seen are taken first, and a face is left out if one of its edges
     // is already used in its direction. Faces seen by one ring only fill holes.
     std::vector<const std::pair<const std::array<int, 3>, TripleSupport>*> by_support;
-    for (const auto& entry : triples)
+    for (const auto& entry : triples_)
       by_support.push_back (&entry);
     std::stable_sort (by_support.begin (), by_support.end (), [] (auto a, auto b) {
       return a->second.triangles.size () > b->second.triangles.size ();
@@ -425,23 +429,34 @@ private:
     }
   }
 
-  /** Graph edges between regions a and b. */
-  std::size_t
+  /** Graph edges between every two regions that touch, counted once per round:
+    * the hole filling, the touch check and the seeding all read them. */
+  void
+  countTouches ()
+  {
+    touches_.clear ();
+    for (std::size_t v = 0; v < n_; ++v)
+      for (const pcl::index_t* w = graph_.begin (v); w != graph_.end (v); ++w) {
+        const int a = region_[v], b = region_[*w];
+        if (a >= 0 && b >= 0 && a < b)
+          ++touches_[{a, b}];
+      }
+  }
+
+  /** Graph edges between regions a and b (the graph is symmetric). */
+  int
   touchCount (int a, int b) const
   {
-    std::size_t count = 0;
-    for (std::size_t v = 0; v < n_; ++v)
-      if (region_[v] == a)
-        for (const pcl::index_t* w = graph_.begin (v); w != graph_.end (v); ++w)
-          count += region_[*w] == b;
-    return count;
+    const auto it = touches_.find ({std::min (a, b), std::max (a, b)});
+    return it == touches_.end () ? 0 : it->second;
   }
 
   /** Every ring triangle (v, a, b) whose points lie in three regions, under the
     * regions' triple turned to start at its smallest label. */
   void
-  collectTriples (std::map<std::array<int, 3>, TripleSupport>& triples) const
+  collectTriples ()
   {
+    triples_.clear ();
     for (std::size_t v = 0; v < n_; ++v) {
       const int rv = region_[v];
       const long d = rings_.degree (static_cast<pcl::index_t> (v));
@@ -455,7 +470,7 @@ private:
           continue;
         std::array<int, 3> key = {rv, ra, rb};
         std::rotate (key.begin (), std::min_element (key.begin (), key.end ()), key.end ());
-        triples[key].triangles.push_back ({static_cast<pcl::index_t> (v), a, b});
+        triples_[key].triangles.push_back ({static_cast<pcl::index_t> (v), a, b});
       }
     }
   }
@@ -504,28 +519,8 @@ private:
       }
     }
     for (int v = 0; v < static_cast<int> (seeds_.size ()); ++v)
-      if (fan[v].empty () || !isOneFan (fan[v]))
+      if (!isOneFan (fan[v]))
         bad.insert (v);
-  }
-
-  /** The (next, previous) pairs of the faces around a vertex form one cycle. */
-  static bool
-  isOneFan (const std::vector<std::array<int, 2>>& fan)
-  {
-    std::map<int, int> next_of;
-    for (const auto& [next, previous] : fan)
-      if (!next_of.emplace (previous, next).second)
-        return false;
-    int current = fan[0][0];
-    std::size_t steps = 0;
-    do {
-      const auto it = next_of.find (current);
-      if (it == next_of.end ())
-        return false;
-      current = it->second;
-      ++steps;
-    } while (current != fan[0][0] && steps <= fan.size ());
-    return steps == fan.size () && current == fan[0][0];
   }
 
   /** Two regions that touch along more than a point must be an edge of D: a region
@@ -538,14 +533,7 @@ private:
     for (const auto& f : dual_faces_)
       for (int k = 0; k < 3; ++k)
         edges.insert ({std::min (f[k], f[(k + 1) % 3]), std::max (f[k], f[(k + 1) % 3])});
-    std::map<std::array<int, 2>, int> touches;
-    for (std::size_t v = 0; v < n_; ++v)
-      for (const pcl::index_t* w = graph_.begin (v); w != graph_.end (v); ++w) {
-        const int a = region_[v], b = region_[*w];
-        if (a >= 0 && b >= 0 && a < b)
-          ++touches[{a, b}];
-      }
-    for (const auto& [pair, count] : touches)
+    for (const auto& [pair, count] : touches_)
       if (count > 2 && !edges.count (pair)) {
         bad.insert (pair[0]);
         bad.insert (pair[1]);
@@ -565,6 +553,8 @@ private:
   /** The dual triangulation of the regions (seed labels), and the ring triangles
     * each of its faces was read from. */
   std::map<std::array<int, 3>, TripleSupport> triples_;
+  /** Graph edges between two touching regions (smaller label first), this round. */
+  std::map<std::array<int, 2>, int> touches_;
   std::vector<std::array<int, 3>> dual_faces_;
   std::vector<const TripleSupport*> face_support_;
   /** The support of a face filled into a hole: no ring triangle. */

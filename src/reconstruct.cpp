@@ -162,6 +162,8 @@ private:
   finalVerdict ();
   int
   handlesWithDenserNeighbourhoods () const;
+  Neighbourhoods
+  twiceAsManyNeighbours () const;
   std::string
   turnsBackMessage () const;
   void
@@ -294,6 +296,19 @@ Conductor::firstSphereRun ()
   return true;
 }
 
+/** \brief The 2k nearest neighbours where the rings at k disagree too much to grow D;
+  * not successful with a search radius, or if some point has none. */
+Neighbourhoods
+Conductor::twiceAsManyNeighbours () const
+{
+  if (options_.radius > 0.0)
+    return {};
+  Neighbourhoods denser = search_ (2 * options_.k);
+  if (denser.num_empty > 0)
+    denser.success = false;
+  return denser;
+}
+
 /** \brief No grown D at k neighbours: on anisotropic samples (the vertices of long
   * thin triangles) the rings of neighbouring points disagree; at 2k they agree more.
   * `first` is replaced if that run succeeds. */
@@ -301,11 +316,11 @@ void
 Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
                                          SphereTriangulation& first)
 {
-  if (options_.radius > 0.0 || cancelled_)
+  if (cancelled_)
     return;
   clock_.restart ();
-  Neighbourhoods denser = search_ (2 * options_.k);
-  if (!denser.success || denser.num_empty > 0 ||
+  Neighbourhoods denser = twiceAsManyNeighbours ();
+  if (!denser.success ||
       !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (2 * options_.k)))
     return;
   SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
@@ -337,10 +352,10 @@ Conductor::firstDiscRun ()
 int
 Conductor::handlesWithDenserNeighbourhoods () const
 {
-  if (options_.topology != Topology::Sphere || options_.radius > 0.0)
+  if (options_.topology != Topology::Sphere)
     return 0;
-  const Neighbourhoods denser = search_ (2 * options_.k);
-  if (!denser.success || denser.num_empty > 0)
+  const Neighbourhoods denser = twiceAsManyNeighbours ();
+  if (!denser.success)
     return 0;
   SurfaceGraphOptions graphs;
   graphs.weights = options_.weights;

@@ -26,6 +26,15 @@ prepared (const Points3& points)
   return preparePoints (xyz, indices);
 }
 
+/** n points of a generated shape, prepared as the conductor gets them. */
+PreparedPoints
+preparedShape (SyntheticShape shape, std::size_t n)
+{
+  SyntheticCloudOptions cloud;
+  cloud.num_points = n;
+  return prepared (sampleShape (shape, cloud));
+}
+
 /** Brute-force neighbourhoods that remember which k they were asked for. */
 struct CountingSearch
 {
@@ -79,9 +88,7 @@ TEST (CheckOptions, NamesTheSetter)
 
 TEST (Reconstruct, ClosedSphereThroughEveryPoint)
 {
-  SyntheticCloudOptions cloud;
-  cloud.num_points = 2000;
-  const PreparedPoints points = prepared (sampleShape (SyntheticShape::BumpySphere, cloud));
+  const PreparedPoints points = preparedShape (SyntheticShape::BumpySphere, 2000);
   CountingSearch search{&points.points, {}};
   ReconstructionOptions options;
   options.num_threads = 1;
@@ -98,9 +105,7 @@ TEST (Reconstruct, ClosedSphereThroughEveryPoint)
 
 TEST (Reconstruct, CancelledByTheCallbackFailsEvenWhereTheStageGoesOn)
 {
-  SyntheticCloudOptions cloud;
-  cloud.num_points = 1000;
-  const PreparedPoints points = prepared (sampleShape (SyntheticShape::Sphere, cloud));
+  const PreparedPoints points = preparedShape (SyntheticShape::Sphere, 1000);
   CountingSearch search{&points.points, {}};
   ReconstructionOptions options;
   std::vector<std::string> stages;
@@ -137,9 +142,7 @@ protected:
   void
   SetUp () override
   {
-    SyntheticCloudOptions cloud;
-    cloud.num_points = 1500;
-    points_ = prepared (sampleShape (SyntheticShape::Sphere, cloud)).points;
+    points_ = preparedShape (SyntheticShape::Sphere, 1500).points;
     neighbours_ = meshless_test::bruteForceKnn (points_, options_.k);
     pipeline_.polyhedron = BasePolyhedron::Tetrahedron;
     SphereTriangulation first = triangulateSphere (points_, neighbours_, pipeline_);
