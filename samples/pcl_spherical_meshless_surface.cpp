@@ -45,7 +45,7 @@ usage (const char* program)
       "INPUT   .pcd, .ply or .xyz (x y z per line)\n"
       "OUTPUT  .ply (binary), .vtk or .obj\n"
       "SHAPE   sphere, ellipsoid, bumpy_sphere, torus, thin_torus, fat_torus, double_torus,\n"
-      "        knotted_tube, disc, height_field (N points, default 20000)\n"
+      "        knotted_tube, thin_limbs, disc, height_field (N points, default 20000)\n"
       "options:\n"
       "  -k N                 nearest neighbours (default 12)\n"
       "  -radius R            ball neighbourhood of radius R instead of k nearest\n"

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iostream>
+#include <limits>
 #include <vector>
 
 using namespace pcl::meshless;
@@ -136,7 +137,8 @@ spacingSpread (const Points3& points)
 }
 
 const SyntheticShape new_shapes[] = {SyntheticShape::ThinTorus, SyntheticShape::FatTorus,
-                                     SyntheticShape::DoubleTorus, SyntheticShape::KnottedTube};
+                                     SyntheticShape::DoubleTorus, SyntheticShape::KnottedTube,
+                                     SyntheticShape::ThinLimbs};
 
 } // namespace
 
@@ -153,6 +155,19 @@ TEST (SyntheticClouds, NewShapesPointsLieOnTheirSurfaces)
   // were the tube to touch itself, points would lie closer to another strand.
   for (const auto& p : sampleShape (SyntheticShape::KnottedTube, options))
     ASSERT_NEAR (distanceToKnot (p), tube_radius, 1e-9 * tube_radius);
+  // Away from the rounded joins (within 0.2 of the centre), a point lies on the
+  // ball or on a rod: at 0.05 from an axis, or on a rod's end cap.
+  for (const auto& p : sampleShape (SyntheticShape::ThinLimbs, options)) {
+    if (p.norm () < 0.7)
+      continue;
+    double nearest = std::numeric_limits<double>::infinity ();
+    for (int axis = 0; axis < 3; ++axis) {
+      Eigen::Vector3d off_axis = p;
+      off_axis[axis] -= std::clamp (p[axis], -1.5, 1.5);
+      nearest = std::min (nearest, off_axis.norm ());
+    }
+    ASSERT_NEAR (nearest, 0.05, 1e-9);
+  }
 }
 
 TEST (SyntheticClouds, NewShapesSameSeedSameCloudOtherSeedOtherCloud)
@@ -181,7 +196,7 @@ TEST (SyntheticClouds, NewShapesSpacingIsEven)
 TEST (SyntheticClouds, UnevenDensityFollowsTheRatioOnEveryClosedShape)
 {
   const double ratio = 10.0;
-  for (int s = 0; s <= static_cast<int> (SyntheticShape::KnottedTube); ++s) {
+  for (int s = 0; s <= static_cast<int> (SyntheticShape::ThinLimbs); ++s) {
     const auto shape = static_cast<SyntheticShape> (s);
     if (syntheticGenus (shape) < 0)
       continue;
@@ -228,13 +243,15 @@ TEST (SyntheticClouds, GenusIsDocumented)
   EXPECT_EQ (syntheticGenus (SyntheticShape::FatTorus), 1);
   EXPECT_EQ (syntheticGenus (SyntheticShape::KnottedTube), 1);
   EXPECT_EQ (syntheticGenus (SyntheticShape::DoubleTorus), 2);
+  EXPECT_EQ (syntheticGenus (SyntheticShape::ThinLimbs), 0);
   EXPECT_EQ (syntheticGenus (SyntheticShape::Disc), -1);
   EXPECT_EQ (syntheticGenus (SyntheticShape::HeightField), -1);
   const std::pair<const char*, SyntheticShape> names[] = {
       {"thin_torus", SyntheticShape::ThinTorus},
       {"fat_torus", SyntheticShape::FatTorus},
       {"double_torus", SyntheticShape::DoubleTorus},
-      {"knotted_tube", SyntheticShape::KnottedTube}};
+      {"knotted_tube", SyntheticShape::KnottedTube},
+      {"thin_limbs", SyntheticShape::ThinLimbs}};
   for (const auto& [name, expected] : names) {
     SyntheticShape shape = SyntheticShape::Sphere;
     EXPECT_TRUE (parseSyntheticShape (name, shape)) << name;

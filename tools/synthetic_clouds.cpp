@@ -318,14 +318,58 @@ doubleTorusFunction (const Eigen::Vector3d& p, Eigen::Vector3d& gradient)
   return g * g + z * z - 0.01;
 }
 
-/** m points close to uniform per area on the DoubleTorus: uniform points of its box
-  * within a thin shell around it (by first-order distance), projected onto it by
-  * Newton steps along the gradient. Sets the shape's area (shell volume / width). */
-Points3
-sampleDoubleTorus (std::size_t m, std::mt19937& random, double& area)
+/** Union of a and b with the join rounded over a width of about `width`. */
+double
+smoothMinimum (double a, double b, double width)
 {
-  const Eigen::Vector3d half (1.2, 0.6, 0.15);
-  const double shell = 0.005;
+  const double h = std::max (width - std::abs (a - b), 0.0) / width;
+  return std::min (a, b) - 0.25 * h * h * width;
+}
+
+/** The ThinLimbs' signed distance (nearly: the rounded joins are not exact). */
+double
+thinLimbsDistance (const Eigen::Vector3d& p)
+{
+  double f = p.norm () - 0.5;
+  for (int axis = 0; axis < 3; ++axis) {
+    Eigen::Vector3d off_axis = p;
+    off_axis[axis] -= std::clamp (p[axis], -1.5, 1.5);
+    f = smoothMinimum (f, off_axis.norm () - 0.05, 0.1);
+  }
+  return f;
+}
+
+/** The ThinLimbs' function and its gradient by central differences; far from the
+  * surface, where the sampler only rejects, a unit vector stands in for the gradient. */
+double
+thinLimbsFunction (const Eigen::Vector3d& p, Eigen::Vector3d& gradient)
+{
+  const double f = thinLimbsDistance (p);
+  gradient = Eigen::Vector3d::UnitX ();
+  if (std::abs (f) > 0.1)
+    return f;
+  const double h = 1e-7;
+  for (int axis = 0; axis < 3; ++axis) {
+    Eigen::Vector3d step = Eigen::Vector3d::Zero ();
+    step[axis] = h;
+    gradient[axis] = (thinLimbsDistance (p + step) - thinLimbsDistance (p - step)) / (2.0 * h);
+  }
+  return f;
+}
+
+/** m points close to uniform per area on the zero set of `function` inside the box
+  * of half extents `half`: uniform points of the box within a shell of half width
+  * `shell` around it (by first-order distance), projected onto it by Newton steps
+  * along the gradient. Sets the shape's area (shell volume / width). */
+template <typename Function>
+Points3
+sampleImplicit (const Function& function,
+                const Eigen::Vector3d& half,
+                double shell,
+                std::size_t m,
+                std::mt19937& random,
+                double& area)
+{
   std::uniform_real_distribution<double> unit (-1.0, 1.0);
   Points3 points;
   points.reserve (m);
@@ -335,12 +379,12 @@ sampleDoubleTorus (std::size_t m, std::mt19937& random, double& area)
     Eigen::Vector3d p (half.x () * unit (random), half.y () * unit (random),
                        half.z () * unit (random));
     Eigen::Vector3d gradient;
-    double f = doubleTorusFunction (p, gradient);
+    double f = function (p, gradient);
     if (std::abs (f) >= shell * gradient.norm ())
       continue;
     for (int step = 0; step < 50 && std::abs (f) > 1e-15 * gradient.norm (); ++step) {
       p -= f * gradient / gradient.squaredNorm ();
-      f = doubleTorusFunction (p, gradient);
+      f = function (p, gradient);
     }
     points.push_back (p);
   }
@@ -365,7 +409,11 @@ sampleUniformly (SyntheticShape shape, std::size_t n, std::mt19937& random)
     points = sampleParametric (shape, candidates, random, area);
     break;
   case SyntheticShape::DoubleTorus:
-    points = sampleDoubleTorus (candidates, random, area);
+    points = sampleImplicit (doubleTorusFunction, {1.2, 0.6, 0.15}, 0.005, candidates, random,
+                            area);
+    break;
+  case SyntheticShape::ThinLimbs:
+    points = sampleImplicit (thinLimbsFunction, {1.6, 1.6, 1.6}, 0.02, candidates, random, area);
     break;
   default:
     return sampleLattice (shape, n, random);
@@ -414,6 +462,7 @@ syntheticGenus (SyntheticShape shape)
   case SyntheticShape::Sphere:
   case SyntheticShape::Ellipsoid:
   case SyntheticShape::BumpySphere:
+  case SyntheticShape::ThinLimbs:
     return 0;
   case SyntheticShape::Torus:
   case SyntheticShape::ThinTorus:
@@ -453,7 +502,8 @@ parseSyntheticShape (const std::string& name, SyntheticShape& shape)
       {"bumpy_sphere", SyntheticShape::BumpySphere}, {"torus", SyntheticShape::Torus},
       {"disc", SyntheticShape::Disc},               {"height_field", SyntheticShape::HeightField},
       {"thin_torus", SyntheticShape::ThinTorus},     {"fat_torus", SyntheticShape::FatTorus},
-      {"double_torus", SyntheticShape::DoubleTorus}, {"knotted_tube", SyntheticShape::KnottedTube}};
+      {"double_torus", SyntheticShape::DoubleTorus}, {"knotted_tube", SyntheticShape::KnottedTube},
+      {"thin_limbs", SyntheticShape::ThinLimbs}};
   for (const auto& entry : names)
     if (name == entry.first) {
       shape = entry.second;

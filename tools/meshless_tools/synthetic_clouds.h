@@ -30,7 +30,11 @@ enum class SyntheticShape
   DoubleTorus,
   /** Genus 1: a tube of radius 0.3 around the (2, 3) torus knot (a trefoil)
     * c(t) = ((2 + cos 3t) cos 2t, (2 + cos 3t) sin 2t, sin 3t), t in [0, 2 pi). */
-  KnottedTube
+  KnottedTube,
+  /** Genus 0 with thin parts, like an animal's legs: a ball of radius 0.5 and three
+    * rods of radius 0.08 through it along the axes, ends at +-1.5, their joins
+    * rounded (a smooth union of their distance functions). */
+  ThinLimbs
 };
 
 /** \brief Genus of a closed shape (0 for the sphere-like ones), -1 for the open
@@ -65,7 +69,7 @@ Points3
 sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options = {});
 
 /** \brief Parse "sphere", "ellipsoid", "bumpy_sphere", "torus", "disc",
-  * "height_field", "thin_torus", "fat_torus", "double_torus", "knotted_tube".
+  * "height_field", "thin_torus", "fat_torus", "double_torus", "knotted_tube", "thin_limbs".
   * \return false if the name is unknown. */
 bool
 parseSyntheticShape (const std::string& name, SyntheticShape& shape);
