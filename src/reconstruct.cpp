@@ -168,6 +168,8 @@ private:
   turnsBackMessage () const;
   void
   growWithDenserNeighbourhoods (const SpherePipelineOptions& options, SphereTriangulation& first);
+  void
+  polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangulation& first);
 
   const PreparedPoints& prepared_;
   const Points3& points_;
@@ -258,6 +260,9 @@ Conductor::firstSphereRun ()
   SphereTriangulation first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
   if (!first.success && options.grown_base_mesh && first.stats.genus < 0)
     growWithDenserNeighbourhoods (options, first);
+  if (!first.success && options.grown_base_mesh && first.stats.genus < 0 &&
+      options.user_base_mesh.faces.empty ())
+    polyhedraWhereNoGenus (options, first);
   if (options_.release_freed_memory)
     releaseFreedMemory (); // the pipeline's graphs and factors
   ReconstructionReport& report = result_.report;
@@ -329,6 +334,29 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
   first = std::move (second);
   neighbourhoods_ = std::move (denser);
   result_.report.neighbours_k = 2 * options_.k;
+}
+
+/** \brief No D grown at k nor at 2k: regions only a few points around thin limbs
+  * give rings too noisy to read a dual from. The sphere topology's polyhedra then
+  * try, under its check for clear handles; a mesh from them passes the verdict a
+  * sphere run passes, so its genus 0 is as sure as that topology's. `first` is
+  * replaced if that run succeeds. */
+void
+Conductor::polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangulation& first)
+{
+  if (cancelled_)
+    return;
+  options.grown_base_mesh = false;
+  options.refuse_handles = true;
+  SphereTriangulation sphere = triangulateSphere (points_, neighbourhoods_.neighbours, options);
+  if (!sphere.success) {
+    if (sphere.stats.genus > 0)
+      first.message += "; " + std::to_string (sphere.stats.genus) +
+                       " handle(s) were seen, but no base mesh of that genus could be grown";
+    return;
+  }
+  first = std::move (sphere);
+  first.stats.genus = 0;
 }
 
 bool
