@@ -328,6 +328,24 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
   if (!denser.success ||
       !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (2 * options_.k)))
     return;
+  // Wider neighbourhoods also widen the maps' stencils and the triangles' reach
+  // (farther from the surface): D only is taken from 2k when the paths fit at k.
+  SurfaceGraphOptions graphs;
+  graphs.weights = options_.weights;
+  graphs.num_threads = static_cast<int> (options_.num_threads);
+  const SurfaceGraphs surface = buildSurfaceGraphs (points_, denser.neighbours, graphs);
+  if (surface.success) {
+    GrownBaseMesh grown = growBaseMesh (points_, surface.mutual, surface.ordered.rings);
+    if (grown.success && grown.genus > 0) {
+      SpherePipelineOptions at_k = options;
+      at_k.user_base_mesh = std::move (grown.mesh);
+      SphereTriangulation second = triangulateSphere (points_, neighbourhoods_.neighbours, at_k);
+      if (second.success) {
+        first = std::move (second);
+        return;
+      }
+    }
+  }
   SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
   if (!second.success)
     return;
