@@ -105,7 +105,8 @@ public:
     }
     result_.message = "no base mesh worked after " + std::to_string (attempts) + " attempt(s) (" +
                       (grown_genus_ > 0
-                           ? "parts thinner than the point spacing leave no room for the paths"
+                           ? "the paths between the grown regions' corners found no room: thin "
+                             "parts, or many small regions"
                            : "is the cloud sphere-like? a handle or a boundary leaves no room for "
                              "the paths; so may parts thinner than the point spacing") +
                       "); the last problem: " + last_problem_;
