@@ -21,6 +21,10 @@ constexpr double infinity = std::numeric_limits<double>::infinity ();
 /** Cost factor of a step onto a point next to an earlier path: paths keep some
   * room between them, so that the regions between them do not pinch off. */
 constexpr double crowding_cost = 3.0;
+/** Cost factor of a step onto a point of a grown D's region that is neither of the
+  * edge's two faces: a path that strays across a third region takes room the paths of
+  * that region's own edges need. */
+constexpr double off_border_cost = 3.0;
 
 /** Position of w in v's ring, or -1. */
 long
@@ -431,7 +435,11 @@ private:
     std::vector<pcl::index_t> path = shortestPath (
         points_, graph_, route.a, route.b,
         [&] (pcl::index_t v, pcl::index_t w) { return mayStep (route, v, w); },
-        [&] (pcl::index_t w) { return beside_path_[w] ? crowding_cost : 1.0; }, distance_,
+        [&] (pcl::index_t w) {
+          return (beside_path_[w] ? crowding_cost : 1.0) *
+                 (offBorder (e, w) ? off_border_cost : 1.0);
+        },
+        distance_,
         previous_, touched_);
     unblockWedges ();
     if (path.size () < 2) {
@@ -451,6 +459,16 @@ private:
     updateRegions (e, path, route.own_region);
     result_.paths[e] = std::move (path);
     return true;
+  }
+
+  /** Whether point w lies in a grown region other than edge e's two faces. */
+  bool
+  offBorder (std::size_t e, pcl::index_t w) const
+  {
+    if (base_.point_faces.empty ())
+      return false;
+    const int f = base_.point_faces[w];
+    return f >= 0 && f != sides_[e][0] && f != sides_[e][1];
   }
 
   /** A corner whose paths all exist needs its ring no longer: later paths may pass

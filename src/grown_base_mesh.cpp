@@ -5,6 +5,7 @@
 #include "common/fans.h"
 #include "common/union_find.h"
 #include "handles.h"
+#include "region_merging.h"
 
 #include <pcl/surface/meshless/grown_base_mesh.h>
 
@@ -87,6 +88,7 @@ public:
         std::string problem;
         result_.genus = closedBaseMeshGenus (result_.mesh, n_, problem);
         if (result_.genus >= 0) {
+          result_.mesh.point_faces = region_;
           result_.region_of = std::move (region_);
           result_.seeds = seeds_;
           result_.success = true;
@@ -584,6 +586,7 @@ clearHandles (const Points3& points,
   GrownBaseMeshOptions bounded;
   bounded.max_seeds = std::min<std::size_t> (points.size () / 20, max_seeds_for_handles);
   bounded.max_rounds = max_rounds_for_handles;
+  bounded.merge_regions_below = 1; // only the genus is wanted
   int genus = -1, agreeing = 0, failed = 0;
   for (bounded.start = 0; bounded.start < 3 && agreeing < 2 && failed < 2; ++bounded.start) {
     const GrownBaseMesh grown = growBaseMesh (points, graph, rings, eligible, bounded);
@@ -606,7 +609,16 @@ growBaseMesh (const Points3& points,
               const std::vector<char>& eligible,
               const GrownBaseMeshOptions& options)
 {
-  return BaseMeshGrower (points, graph, rings, eligible, options).run ();
+  GrownBaseMesh grown = BaseMeshGrower (points, graph, rings, eligible, options).run ();
+  // A quarter of the initial regions' size: merged further, the patches of a tube's
+  // long strips turn back over themselves where the sampling is uneven.
+  const std::size_t initial =
+      options.initial_seeds ? options.initial_seeds : initialSeedCount (points.size ());
+  const std::size_t min_points = options.merge_regions_below
+                                     ? options.merge_regions_below
+                                     : points.size () / (4 * initial);
+  mergeSmallRegions (grown, min_points);
+  return grown;
 }
 
 } // namespace meshless

@@ -184,11 +184,14 @@ private:
   Neighbourhoods neighbourhoods_;
   SpherePipelineOptions first_options_; // the first run's, which the retries vary
   bool cancelled_ = false;              // the user's callback said cancel, anywhere
+  bool genus_presumed_ = false; // genus 0 from the polyhedra, no D: holds only if they succeed
 };
 
 bool
 Conductor::fail (const std::string& reason)
 {
+  if (genus_presumed_)
+    result_.report.stats.genus = -1;
   result_.report.message = reason + precision_hint_;
   result_.triangles.clear ();
   return false;
@@ -375,6 +378,7 @@ Conductor::polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangula
   }
   first = std::move (sphere);
   first.stats.genus = 0;
+  genus_presumed_ = true;
 }
 
 bool

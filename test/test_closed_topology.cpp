@@ -98,6 +98,42 @@ TEST (ClosedTopology, GeneratedShapesOfGenusZeroToTwoCloseWithTheirGenus)
   }
 }
 
+TEST (ClosedTopology, ASparseTorusFailsWithTheGenusUnknown)
+{
+  // 150 points on a torus: no D grows, and the polyhedra's mesh turns back over the
+  // hole. The failure must not claim genus 0.
+  const auto cloud =
+      toCloud (pcl::meshless::sampleShape (SyntheticShape::Torus, {150, 1, 0.0, 0.0}));
+  Reconstruction reconstruction;
+  reconstruction.setTopology (Reconstruction::Topology::Closed);
+  reconstruction.setInputCloud (cloud);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_EQ (reconstruction.getReport ().stats.genus, -1) << reconstruction.getReport ().message;
+}
+
+TEST (ClosedTopology, KnottedTubesOfAFewDozenPointsAroundClose)
+{
+  // Their genus shows only with regions of a few dozen points; merged into larger
+  // ones, they leave the paths room.
+  for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+    SCOPED_TRACE ("seed " + std::to_string (seed));
+    const auto cloud = toCloud (
+        pcl::meshless::sampleShape (SyntheticShape::KnottedTube, {5000, seed, 0.0, 0.0}));
+    Reconstruction reconstruction;
+    reconstruction.setTopology (Reconstruction::Topology::Closed);
+    reconstruction.setInputCloud (cloud);
+    std::vector<pcl::Vertices> polygons;
+    reconstruction.reconstruct (polygons);
+    const auto& report = reconstruction.getReport ();
+    ASSERT_TRUE (report.success) << report.message;
+    EXPECT_EQ (report.stats.genus, 1);
+    expectClosedOfGenus (*cloud, polygons, 1);
+  }
+}
+
 TEST (ClosedTopology, ThinLimbsCloseAsGenusZero)
 {
   // Limbs a few points around: the rings there are too noisy to grow D from at small
@@ -144,6 +180,7 @@ expectSharedCloudClosesWithGenus (const std::string& name, int genus)
 TEST (ClosedTopology, SharedCloudsCloseWithTheirGenus)
 {
   expectSharedCloudClosesWithGenus ("rocker_arm", 1);
+  expectSharedCloudClosesWithGenus ("fertility", 4);
   // Limbs a few points around: genus 0, no spurious handle.
   expectSharedCloudClosesWithGenus ("bunny_igl", 0);
   expectSharedCloudClosesWithGenus ("cow_igl", 0);
@@ -236,11 +273,21 @@ TEST (ClosedTopology, TwoObjectsAndAnUnclearGenusAreErrorsWithGenusUnknown)
   EXPECT_NE (reconstruction.getReport ().message.find ("disconnected"), std::string::npos)
       << reconstruction.getReport ().message;
 
-  // 150 points on a long ellipsoid: too few for regions that are discs. The genus
-  // is unknown, and said so.
+  // 150 points on a long ellipsoid: too few for regions that are discs. The
+  // sphere topology's polyhedra close it, and closed mode gives the same.
   const auto sparse =
       toCloud (pcl::meshless::sampleShape (SyntheticShape::Ellipsoid, {150, 1, 0.0, 0.0}));
   reconstruction.setInputCloud (sparse);
+  reconstruction.reconstruct (polygons);
+  EXPECT_TRUE (reconstruction.getReport ().success) << reconstruction.getReport ().message;
+  EXPECT_EQ (reconstruction.getReport ().stats.genus, 0);
+  expectClosedOfGenus (*sparse, polygons, 0);
+
+  // A torus under noise of 2% of its diagonal: no D, and no sphere either. The genus
+  // is unknown, and said so.
+  const auto noisy =
+      toCloud (pcl::meshless::sampleShape (SyntheticShape::Torus, {3000, 1, 0.02, 0.0}));
+  reconstruction.setInputCloud (noisy);
   reconstruction.reconstruct (polygons);
   EXPECT_FALSE (reconstruction.getReport ().success);
   EXPECT_TRUE (polygons.empty ());

@@ -1,12 +1,15 @@
 // The base mesh grown from the cloud: the genus it finds across generated families
 // of closed shapes, and the validity of the polygonal D it returns.
+#include <pcl/surface/meshless/cut_paths.h>
 #include <pcl/surface/meshless/grown_base_mesh.h>
 #include <pcl/surface/meshless/surface_graphs.h>
 #include <meshless_tools/synthetic_clouds.h>
 
 #include "handles.h"
+#include "region_merging.h"
 #include "test_support.h"
 
+#include <iostream>
 #include <set>
 
 using namespace pcl::meshless;
@@ -22,19 +25,26 @@ graphsOf (const Points3& points)
 }
 
 /** D is a closed, oriented polygonal mesh over distinct cloud points whose faces are
-  * the regions, every point in one of them. */
+  * the regions, every point in one of them. The volume test of the orientation needs
+  * regions small against the curvature: a merged region, a long strip of a tube,
+  * fans through the tube's inside. */
 void
-expectValidRegions (const GrownBaseMesh& grown, const Points3& points)
+expectValidRegions (const GrownBaseMesh& grown, const Points3& points, bool small_regions = true)
 {
   const std::size_t n = points.size ();
-  // Turned outward: the faces, fanned from their first corner, enclose a positive
-  // volume.
+  // Turned outward: the faces, fanned from their seeds (a region's corners alone can
+  // lie far apart on a curved strip), enclose a positive volume.
+  ASSERT_EQ (grown.seeds.size (), grown.mesh.faces.size ());
   double volume = 0.0;
-  for (const auto& face : grown.mesh.faces)
-    for (std::size_t k = 1; k + 1 < face.size (); ++k)
-      volume += points[grown.mesh.vertices[face[0]]].dot (
-          points[grown.mesh.vertices[face[k]]].cross (points[grown.mesh.vertices[face[k + 1]]]));
-  EXPECT_GT (volume, 0.0) << "D turns outward";
+  for (std::size_t f = 0; f < grown.mesh.faces.size (); ++f) {
+    const auto& face = grown.mesh.faces[f];
+    for (std::size_t k = 0; k < face.size (); ++k)
+      volume += points[grown.seeds[f]].dot (
+          points[grown.mesh.vertices[face[k]]].cross (
+              points[grown.mesh.vertices[face[(k + 1) % face.size ()]]]));
+  }
+  if (small_regions)
+    EXPECT_GT (volume, 0.0) << "D turns outward";
   std::string problem;
   EXPECT_EQ (closedBaseMeshGenus (grown.mesh, n, problem), grown.genus) << problem;
   ASSERT_EQ (grown.seeds.size (), grown.mesh.faces.size ());
@@ -49,6 +59,26 @@ expectValidRegions (const GrownBaseMesh& grown, const Points3& points)
     EXPECT_GE (grown.mesh.faces[f].size (), 3u) << "a region with fewer than three corners";
     EXPECT_EQ (grown.region_of[grown.seeds[f]], static_cast<int> (f)) << "its seed lies in it";
   }
+  EXPECT_EQ (grown.mesh.point_faces, grown.region_of) << "the router's hint is the regions";
+}
+
+/** Every region is one piece of the graph. */
+void
+expectConnectedRegions (const GrownBaseMesh& grown, const CsrGraph& graph)
+{
+  std::vector<char> seen (grown.region_of.size (), 0);
+  for (std::size_t f = 0; f < grown.seeds.size (); ++f) {
+    std::vector<pcl::index_t> queue = {grown.seeds[f]};
+    seen[grown.seeds[f]] = 1;
+    for (std::size_t head = 0; head < queue.size (); ++head)
+      for (const pcl::index_t* w = graph.begin (queue[head]); w != graph.end (queue[head]); ++w)
+        if (!seen[*w] && grown.region_of[*w] == static_cast<int> (f)) {
+          seen[*w] = 1;
+          queue.push_back (*w);
+        }
+  }
+  for (std::size_t v = 0; v < seen.size (); ++v)
+    ASSERT_TRUE (seen[v]) << "point " << v << " is cut off from its region's seed";
 }
 
 struct FamilyMember
@@ -107,6 +137,92 @@ TEST (GrownBaseMesh, FindsTheGenusOfEveryGeneratedClosedShape)
         m.shape != SyntheticShape::KnottedTube)
       EXPECT_EQ (handles, syntheticGenus (m.shape)) << "a clear handle is named";
   }
+}
+
+TEST (GrownBaseMesh, MergedRegionsKeepDValid)
+{
+  for (const SyntheticShape shape :
+       {SyntheticShape::Torus, SyntheticShape::DoubleTorus, SyntheticShape::KnottedTube})
+    for (const std::uint32_t seed : {1u, 2u}) {
+      SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " seed " +
+                    std::to_string (seed));
+      const Points3 points = sampleShape (shape, {5000, seed, 0.0, 0.0});
+      const SurfaceGraphs graphs = graphsOf (points);
+      GrownBaseMeshOptions keep_all;
+      keep_all.merge_regions_below = 1;
+      const GrownBaseMesh fine =
+          growBaseMesh (points, graphs.mutual, graphs.ordered.rings, {}, keep_all);
+      const GrownBaseMesh merged = growBaseMesh (points, graphs.mutual, graphs.ordered.rings);
+      ASSERT_TRUE (fine.success) << fine.message;
+      ASSERT_TRUE (merged.success) << merged.message;
+      EXPECT_EQ (merged.genus, syntheticGenus (shape));
+      EXPECT_LE (merged.mesh.faces.size (), fine.mesh.faces.size ());
+      expectValidRegions (fine, points);
+      expectValidRegions (merged, points, false);
+      expectConnectedRegions (merged, graphs.mutual);
+    }
+}
+
+TEST (GrownBaseMesh, MergedRegionsLeaveThePathsRoomOnATube)
+{
+  // A knotted tube about 25 points around shows its genus only with regions of a
+  // few dozen points; routed as they are, the corners' rings leave the paths no room.
+  std::size_t routed_fine = 0, routed_merged = 0;
+  for (const std::uint32_t seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE ("seed " + std::to_string (seed));
+    const Points3 points = sampleShape (SyntheticShape::KnottedTube, {5000, seed, 0.0, 0.0});
+    const SurfaceGraphs graphs = graphsOf (points);
+    std::size_t routed_here = 0;
+    for (std::uint32_t start = 0; start < 4; ++start) {
+      GrownBaseMeshOptions options;
+      options.start = start;
+      const GrownBaseMesh merged =
+          growBaseMesh (points, graphs.mutual, graphs.ordered.rings, {}, options);
+      options.merge_regions_below = 1;
+      const GrownBaseMesh fine =
+          growBaseMesh (points, graphs.mutual, graphs.ordered.rings, {}, options);
+      ASSERT_TRUE (fine.success && merged.success);
+      EXPECT_LT (2 * merged.mesh.faces.size (), fine.mesh.faces.size ());
+      routed_fine +=
+          computeCutPaths (points, graphs.mutual, graphs.ordered.rings, fine.mesh).success;
+      routed_here +=
+          computeCutPaths (points, graphs.mutual, graphs.ordered.rings, merged.mesh).success;
+    }
+    EXPECT_GE (routed_here, 1u) << "one of four starts routes, as the pipeline's attempts need";
+    routed_merged += routed_here;
+  }
+  std::cout << "routed: " << routed_fine << " of 12 fine D, " << routed_merged << " merged\n";
+  EXPECT_GE (routed_merged, routed_fine + 4);
+}
+
+TEST (GrownBaseMesh, MergingKeepsTheGenusOfAPolygonalTorus)
+{
+  // A torus as a 4 x 4 grid of quadrilaterals, one region of 10 points per face:
+  // merges must stop before a face wraps around the torus (it would share two arcs).
+  BaseMesh torus;
+  for (int i = 0; i < 16; ++i)
+    torus.vertices.push_back (i);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) {
+      const auto at = [] (int a, int b) { return (a % 4) * 4 + (b % 4); };
+      torus.faces.push_back ({at (i, j), at (i + 1, j), at (i + 1, j + 1), at (i, j + 1)});
+    }
+  GrownBaseMesh grown;
+  for (int f = 0; f < 16; ++f) {
+    grown.seeds.push_back (f * 10);
+    for (int k = 0; k < 10; ++k)
+      grown.region_of.push_back (f);
+  }
+  grown.mesh = torus;
+  grown.genus = 1;
+  grown.success = true;
+  EXPECT_GT (mergeSmallRegions (grown, 1000), 0u);
+  EXPECT_LT (grown.mesh.faces.size (), 16u);
+  std::string problem;
+  EXPECT_EQ (closedBaseMeshGenus (grown.mesh, grown.region_of.size (), problem), 1) << problem;
+  for (std::size_t f = 0; f < grown.seeds.size (); ++f)
+    EXPECT_EQ (grown.region_of[grown.seeds[f]], static_cast<int> (f));
+  EXPECT_EQ (grown.mesh.point_faces, grown.region_of);
 }
 
 TEST (GrownBaseMesh, ClosedBaseMeshGenusReadsPolygonalMeshes)

@@ -21,6 +21,10 @@ struct BaseMesh
     * outside: triangles (the polyhedra), or polygons of three or more corners (§5:
     * each face becomes one disc patch). */
   std::vector<std::vector<int>> faces;
+  /** \brief Optional: per cloud point, the face whose region holds it (a D grown from
+    * the cloud), -1 for none. Paths then keep to the border of their edge's two faces
+    * where they can. Empty: no preference. */
+  std::vector<int> point_faces;
 };
 
 /** \brief Regular polyhedra whose directions pick the vertices of D. */

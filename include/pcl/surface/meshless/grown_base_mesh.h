@@ -25,6 +25,11 @@ struct GrownBaseMeshOptions
   /** \brief Rounds of added seeds after which the growth gives up; 0: no limit but
     * max_seeds. */
   std::size_t max_rounds = 0;
+  /** \brief Regions of fewer points merge, once D is valid, into a neighbour across
+    * one edge where D stays valid (mergeSmallRegions): the growth needs small regions
+    * to see the topology, the paths need room. 0 chooses a quarter of the points per
+    * initial seed; 1 keeps every region. */
+  std::size_t merge_regions_below = 0;
 };
 
 /** \brief A base mesh D grown from the cloud, whatever its genus. */
