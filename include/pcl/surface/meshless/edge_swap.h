@@ -85,13 +85,14 @@ struct SwapRules
     * neighbours, measured along the quad's normal) than the old edge's midpoint.
     * Clean clouds stay well below the default. 180 turns the rule off. */
   double noisy_median_dihedral_deg = 25.0;
-  /** \brief Default: true. A last pass that makes the mesh locally Delaunay where it
-    * is nearly flat: an edge whose two opposite angles sum to more than pi (decided on
-    * the sine and cosine of the sum) is swapped when its quad turns by less than
+  /** \brief Default: true. A last pass that makes the mesh locally Delaunay: an edge
+    * whose two opposite angles sum to more than pi (decided on the sine and cosine of
+    * the sum) is swapped when its quad turns by less than
     * `angle_pass_max_dihedral_deg`, the swap is admissible as above, and it adds no
     * intersecting pair. It runs last because the curvature descent prefers slivers
     * along the directions of least curvature on smooth, curved parts and would undo
-    * it; it removes most triangles with an angle below 10 degrees. */
+    * it; it removes most triangles with an angle below 10 degrees, and the slivers'
+    * chords, which lie off the surface. */
   bool improve_angles = true;
   /** \brief Default: true. The descent makes no swap whose new edge is longer than
     * every edge of its quad (the four sides and the old diagonal). A surface departs
@@ -101,9 +102,12 @@ struct SwapRules
     * largest distance to the surface down and the angles up. Applies to the cost
     * descent only. */
   bool descent_keeps_longest_edge = true;
-  /** \brief Default: 15. Quads turning more than this (degrees) are left alone by
-    * the angle pass: across a crease a swap would cut the feature. */
-  double angle_pass_max_dihedral_deg = 15.0;
+  /** \brief Default: 60. Quads turning more than this (degrees) are left alone by
+    * the angle pass. A low bound leaves the descent's slivers on curved parts, whose
+    * chords lie off the surface; much above 60 the pass pulls a noisy sample's mesh
+    * off its points and flattens the folds by which a closed mesh through an open
+    * surface shows that it turns back. */
+  double angle_pass_max_dihedral_deg = 60.0;
 };
 
 /** \brief The swaps' rules and what the caller knows of its mesh and machine. */

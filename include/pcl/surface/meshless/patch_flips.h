@@ -16,10 +16,10 @@ struct PatchFlipOptions
     * it on when the edge swaps' angle pass will run: without optimization the
     * paper's triangulation is returned as it is). */
   bool enabled = false;
-  /** \brief Default: 15. The largest angle (degrees) between the normals of a quad's
+  /** \brief Default: 60. The largest angle (degrees) between the normals of a quad's
     * two triangles, before and after the flip (EdgeSwapOptions::
     * angle_pass_max_dihedral_deg, whose rule this is). */
-  double max_dihedral_deg = 15.0;
+  double max_dihedral_deg = 60.0;
   /** \brief Default: 90. A new triangle turns by at most this (degrees) against one
     * of the old ones, or by the old quad's own turn if that is larger
     * (EdgeSwapOptions::max_fold_angle_deg, the swaps' fold bound). */
