@@ -465,8 +465,8 @@ private:
   bool
   offBorder (std::size_t e, pcl::index_t w) const
   {
-    if (base_.point_faces.empty ())
-      return false;
+    if (base_.point_faces.size () != n_)
+      return false; // no hint, or not one per point
     const int f = base_.point_faces[w];
     return f >= 0 && f != sides_[e][0] && f != sides_[e][1];
   }

@@ -718,8 +718,8 @@ public:
   }
 
   /** The angle pass (EdgeSwapOptions::improve_angles): swaps edges that are not
-    * locally Delaunay in quads turning less than the bound, under the same admissibility rules and
-    * without adding intersecting pairs. Bounded by a number of swaps proportional
+    * locally Delaunay in quads turning less than the bound, under the same
+    * admissibility rules and without adding intersecting pairs. Bounded by a number of swaps proportional
     * to the mesh (on a plane it ends by itself; curved quads could cycle). */
   void
   improveAngles (double max_dihedral_deg)

@@ -168,6 +168,10 @@ private:
   turnsBackMessage () const;
   void
   growWithDenserNeighbourhoods (const SpherePipelineOptions& options, SphereTriangulation& first);
+  bool
+  routedAtK (const SpherePipelineOptions& options,
+             const Neighbourhoods& denser,
+             SphereTriangulation& first);
   void
   polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangulation& first);
 
@@ -184,15 +188,20 @@ private:
   Neighbourhoods neighbourhoods_;
   SpherePipelineOptions first_options_; // the first run's, which the retries vary
   bool cancelled_ = false;              // the user's callback said cancel, anywhere
-  bool genus_presumed_ = false; // genus 0 from the polyhedra, no D: holds only if they succeed
+  bool genus_presumed_ = false; // genus 0 from the polyhedra, no D grown: only if they succeed
 };
 
 bool
 Conductor::fail (const std::string& reason)
 {
-  if (genus_presumed_)
+  std::string unknown_genus;
+  if (genus_presumed_) {
     result_.report.stats.genus = -1;
-  result_.report.message = reason + precision_hint_;
+    unknown_genus = " (no set of regions, of any genus, could be grown from the cloud, so "
+                    "the genus is unknown: a handle about as thin as the point spacing "
+                    "would look like this)";
+  }
+  result_.report.message = reason + unknown_genus + precision_hint_;
   result_.triangles.clear ();
   return false;
 }
@@ -331,30 +340,48 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
   if (!denser.success ||
       !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (2 * options_.k)))
     return;
-  // Wider neighbourhoods also widen the maps' stencils and the triangles' reach
-  // (farther from the surface): D only is taken from 2k when the paths fit at k.
-  SurfaceGraphOptions graphs;
-  graphs.weights = options_.weights;
-  graphs.num_threads = static_cast<int> (options_.num_threads);
-  const SurfaceGraphs surface = buildSurfaceGraphs (points_, denser.neighbours, graphs);
-  if (surface.success) {
-    GrownBaseMesh grown = growBaseMesh (points_, surface.mutual, surface.ordered.rings);
-    if (grown.success && grown.genus > 0) {
-      SpherePipelineOptions at_k = options;
-      at_k.user_base_mesh = std::move (grown.mesh);
-      SphereTriangulation second = triangulateSphere (points_, neighbourhoods_.neighbours, at_k);
-      if (second.success) {
-        first = std::move (second);
-        return;
-      }
-    }
-  }
-  SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
-  if (!second.success)
+  if (routedAtK (options, denser, first) || cancelled_)
     return;
+  SphereTriangulation second = triangulateSphere (points_, denser.neighbours, options);
+  if (!second.success) {
+    // A handle seen at 2k is not left to the genus-0 polyhedra.
+    if (second.stats.genus > 0) {
+      first.stats.genus = second.stats.genus;
+      first.message = second.message;
+    }
+    return;
+  }
   first = std::move (second);
   neighbourhoods_ = std::move (denser);
   result_.report.neighbours_k = 2 * options_.k;
+}
+
+/** \brief A D of genus above 0 grown at 2k, routed and mapped at k: wider
+  * neighbourhoods also widen the maps' stencils and the triangles' reach (farther
+  * from the surface). \return true if that run succeeded (it replaces `first`). */
+bool
+Conductor::routedAtK (const SpherePipelineOptions& options,
+                      const Neighbourhoods& denser,
+                      SphereTriangulation& first)
+{
+  SpherePipelineOptions at_k = options;
+  {
+    SurfaceGraphOptions graphs;
+    graphs.weights = options_.weights;
+    graphs.num_threads = static_cast<int> (options_.num_threads);
+    const SurfaceGraphs surface = buildSurfaceGraphs (points_, denser.neighbours, graphs);
+    if (!surface.success)
+      return false;
+    GrownBaseMesh grown = growBaseMesh (points_, surface.mutual, surface.ordered.rings);
+    if (!grown.success || grown.genus <= 0)
+      return false;
+    at_k.user_base_mesh = std::move (grown.mesh);
+  } // the 2k graphs go before the run at k
+  SphereTriangulation second = triangulateSphere (points_, neighbourhoods_.neighbours, at_k);
+  if (!second.success || cancelled_)
+    return false;
+  first = std::move (second);
+  return true;
 }
 
 /** \brief No D grown at k nor at 2k: regions only a few points around thin limbs

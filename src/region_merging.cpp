@@ -81,9 +81,12 @@ public:
       mesh.faces.push_back (std::move (face));
       seeds.push_back (grown.seeds[f]);
     }
+    std::vector<int> new_index (faces_.size ());
+    for (std::size_t f = 0; f < faces_.size (); ++f)
+      new_index[f] = face_index[root (static_cast<int> (f))];
     for (int& r : grown.region_of)
       if (r >= 0)
-        r = face_index[root (r)];
+        r = new_index[r];
     mesh.point_faces = grown.region_of;
     grown.mesh = std::move (mesh);
     grown.seeds = std::move (seeds);

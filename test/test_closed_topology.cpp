@@ -112,6 +112,8 @@ TEST (ClosedTopology, ASparseTorusFailsWithTheGenusUnknown)
   EXPECT_FALSE (reconstruction.getReport ().success);
   EXPECT_TRUE (polygons.empty ());
   EXPECT_EQ (reconstruction.getReport ().stats.genus, -1) << reconstruction.getReport ().message;
+  EXPECT_NE (reconstruction.getReport ().message.find ("genus is unknown"), std::string::npos)
+      << reconstruction.getReport ().message;
 }
 
 TEST (ClosedTopology, KnottedTubesOfAFewDozenPointsAroundClose)
@@ -283,16 +285,29 @@ TEST (ClosedTopology, TwoObjectsAndAnUnclearGenusAreErrorsWithGenusUnknown)
   EXPECT_EQ (reconstruction.getReport ().stats.genus, 0);
   expectClosedOfGenus (*sparse, polygons, 0);
 
-  // A torus under noise of 2% of its diagonal: no D, and no sphere either. The genus
+  // 600 points on a knotted tube: no D at k nor 2k, and no sphere either. The genus
   // is unknown, and said so.
-  const auto noisy =
-      toCloud (pcl::meshless::sampleShape (SyntheticShape::Torus, {3000, 1, 0.02, 0.0}));
-  reconstruction.setInputCloud (noisy);
+  const auto sparse_knot =
+      toCloud (pcl::meshless::sampleShape (SyntheticShape::KnottedTube, {600, 1, 0.0, 0.0}));
+  reconstruction.setInputCloud (sparse_knot);
   reconstruction.reconstruct (polygons);
   EXPECT_FALSE (reconstruction.getReport ().success);
   EXPECT_TRUE (polygons.empty ());
   EXPECT_EQ (reconstruction.getReport ().stats.genus, -1);
   EXPECT_NE (reconstruction.getReport ().message.find ("genus could not be found"),
              std::string::npos)
+      << reconstruction.getReport ().message;
+
+  // A torus under noise of 2% of its diagonal: its handle shows only at 2k, where
+  // no path fits. A failure, with the genus seen or none, never genus 0.
+  const auto noisy =
+      toCloud (pcl::meshless::sampleShape (SyntheticShape::Torus, {3000, 1, 0.02, 0.0}));
+  reconstruction.setInputCloud (noisy);
+  reconstruction.reconstruct (polygons);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_TRUE (reconstruction.getReport ().stats.genus == -1 ||
+               reconstruction.getReport ().stats.genus == 1)
+      << reconstruction.getReport ().stats.genus << ": "
       << reconstruction.getReport ().message;
 }

@@ -155,8 +155,8 @@ TEST (SyntheticClouds, NewShapesPointsLieOnTheirSurfaces)
   // were the tube to touch itself, points would lie closer to another strand.
   for (const auto& p : sampleShape (SyntheticShape::KnottedTube, options))
     ASSERT_NEAR (distanceToKnot (p), tube_radius, 1e-9 * tube_radius);
-  // Away from the rounded joins (within 0.2 of the centre), a point lies on the
-  // ball or on a rod: at 0.05 from an axis, or on a rod's end cap.
+  // Beyond the ball and its rounded joins (0.7 from the centre), a point lies on a
+  // rod: at 0.05 from an axis, or on a rod's end cap.
   for (const auto& p : sampleShape (SyntheticShape::ThinLimbs, options)) {
     if (p.norm () < 0.7)
       continue;

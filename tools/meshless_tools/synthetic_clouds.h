@@ -32,7 +32,7 @@ enum class SyntheticShape
     * c(t) = ((2 + cos 3t) cos 2t, (2 + cos 3t) sin 2t, sin 3t), t in [0, 2 pi). */
   KnottedTube,
   /** Genus 0 with thin parts, like an animal's legs: a ball of radius 0.5 and three
-    * rods of radius 0.08 through it along the axes, ends at +-1.5, their joins
+    * rods of radius 0.05 through it along the axes, ends at +-1.5, their joins
     * rounded (a smooth union of their distance functions). */
   ThinLimbs
 };

@@ -23,7 +23,7 @@ struct BaseMesh
   std::vector<std::vector<int>> faces;
   /** \brief Optional: per cloud point, the face whose region holds it (a D grown from
     * the cloud), -1 for none. Paths then keep to the border of their edge's two faces
-    * where they can. Empty: no preference. */
+    * where they can. Empty (or not one entry per point): no preference. */
   std::vector<int> point_faces;
 };
 

@@ -61,6 +61,9 @@ struct GrownBaseMesh : StageStatus
   * face, each region concerned gets a further seed at its farthest point and the
   * regions grow again. D is then the regions themselves as polygonal faces (§5),
   * cornered where three meet, and the genus follows from its Euler characteristic.
+  * Small regions then merge into neighbours (GrownBaseMeshOptions::
+  * merge_regions_below): every face stays a disc and D a closed polygon mesh of the
+  * same genus, but two merged faces may share more than one edge.
   * \param[in] graph the graph to grow in (the mutual ring graph)
   * \param[in] rings rings counter-clockwise around outward-oriented normals
   * \param[in] eligible optional per-point mask of points that may be seeds (empty:

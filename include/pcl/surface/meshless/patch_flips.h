@@ -32,7 +32,7 @@ struct PatchFlipOptions
 /** \brief The edge swaps' angle pass (EdgeSwapOptions::improve_angles) on one patch,
   * in the patch stage, where the patches are triangulated in parallel: interior
   * edges that are not locally Delaunay in space (their opposite angles sum to more
-  * than pi) in nearly flat quads are flipped, but only where the quad is strictly
+  * than pi) in quads turning less than the bound are flipped, but only where the quad is strictly
   * convex in the parameter plane, so that the triangulation stays an embedding of
   * the parameter points (a disc bounded by the same loop, no fold in the plane).
   *
