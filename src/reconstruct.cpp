@@ -164,6 +164,8 @@ private:
   handlesWithDenserNeighbourhoods () const;
   Neighbourhoods
   twiceAsManyNeighbours () const;
+  SurfaceGraphs
+  surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const;
   std::string
   turnsBackMessage () const;
   void
@@ -313,6 +315,17 @@ Conductor::firstSphereRun ()
   return true;
 }
 
+/** \brief The surface graphs over other neighbourhoods than the first run's, with
+  * its weights and threads. */
+SurfaceGraphs
+Conductor::surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const
+{
+  SurfaceGraphOptions graphs;
+  graphs.weights = options_.weights;
+  graphs.num_threads = static_cast<int> (options_.num_threads);
+  return buildSurfaceGraphs (points_, neighbourhoods.neighbours, graphs);
+}
+
 /** \brief The 2k nearest neighbours where the rings at k disagree too much to grow D;
   * not successful with a search radius, or if some point has none. */
 Neighbourhoods
@@ -366,10 +379,7 @@ Conductor::routedAtK (const SpherePipelineOptions& options,
 {
   SpherePipelineOptions at_k = options;
   {
-    SurfaceGraphOptions graphs;
-    graphs.weights = options_.weights;
-    graphs.num_threads = static_cast<int> (options_.num_threads);
-    const SurfaceGraphs surface = buildSurfaceGraphs (points_, denser.neighbours, graphs);
+    const SurfaceGraphs surface = surfaceGraphsOf (denser);
     if (!surface.success)
       return false;
     GrownBaseMesh grown = growBaseMesh (points_, surface.mutual, surface.ordered.rings);
@@ -434,10 +444,7 @@ Conductor::handlesWithDenserNeighbourhoods () const
   const Neighbourhoods denser = twiceAsManyNeighbours ();
   if (!denser.success)
     return 0;
-  SurfaceGraphOptions graphs;
-  graphs.weights = options_.weights;
-  graphs.num_threads = static_cast<int> (options_.num_threads);
-  const SurfaceGraphs surface = buildSurfaceGraphs (points_, denser.neighbours, graphs);
+  const SurfaceGraphs surface = surfaceGraphsOf (denser);
   return surface.success ? clearHandles (points_, surface.mutual, surface.ordered.rings) : 0;
 }
 

@@ -60,6 +60,26 @@ expectClosedOfGenus (const pcl::PointCloud<pcl::PointXYZ>& cloud,
   EXPECT_GT (mesh.signed_volume, 0.0) << "oriented outward";
 }
 
+/** The closed topology on `cloud`: success, the genus expected and every promise;
+  * `neighbours_k`, if given, receives the k the result was made with. */
+void
+expectClosesWithGenus (const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
+                       int genus,
+                       std::size_t* neighbours_k = nullptr)
+{
+  Reconstruction reconstruction;
+  reconstruction.setTopology (Reconstruction::Topology::Closed);
+  reconstruction.setInputCloud (cloud);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  const auto& report = reconstruction.getReport ();
+  ASSERT_TRUE (report.success) << report.message;
+  EXPECT_EQ (report.stats.genus, genus);
+  expectClosedOfGenus (*cloud, polygons, genus);
+  if (neighbours_k)
+    *neighbours_k = report.neighbours_k;
+}
+
 struct Member
 {
   SyntheticShape shape;
@@ -84,17 +104,9 @@ TEST (ClosedTopology, GeneratedShapesOfGenusZeroToTwoCloseWithTheirGenus)
     SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (m.shape)) + " seed " +
                   std::to_string (m.seed) + " noise " + std::to_string (m.noise) +
                   " uneven " + std::to_string (m.uneven));
-    const auto cloud =
-        toCloud (pcl::meshless::sampleShape (m.shape, {8000, m.seed, m.noise, m.uneven}));
-    Reconstruction reconstruction;
-    reconstruction.setTopology (Reconstruction::Topology::Closed);
-    reconstruction.setInputCloud (cloud);
-    std::vector<pcl::Vertices> polygons;
-    reconstruction.reconstruct (polygons);
-    const auto& report = reconstruction.getReport ();
-    ASSERT_TRUE (report.success) << report.message;
-    EXPECT_EQ (report.stats.genus, pcl::meshless::syntheticGenus (m.shape));
-    expectClosedOfGenus (*cloud, polygons, pcl::meshless::syntheticGenus (m.shape));
+    expectClosesWithGenus (
+        toCloud (pcl::meshless::sampleShape (m.shape, {8000, m.seed, m.noise, m.uneven})),
+        pcl::meshless::syntheticGenus (m.shape));
   }
 }
 
@@ -122,17 +134,9 @@ TEST (ClosedTopology, KnottedTubesOfAFewDozenPointsAroundClose)
   // ones, they leave the paths room.
   for (std::uint32_t seed = 1; seed <= 3; ++seed) {
     SCOPED_TRACE ("seed " + std::to_string (seed));
-    const auto cloud = toCloud (
-        pcl::meshless::sampleShape (SyntheticShape::KnottedTube, {5000, seed, 0.0, 0.0}));
-    Reconstruction reconstruction;
-    reconstruction.setTopology (Reconstruction::Topology::Closed);
-    reconstruction.setInputCloud (cloud);
-    std::vector<pcl::Vertices> polygons;
-    reconstruction.reconstruct (polygons);
-    const auto& report = reconstruction.getReport ();
-    ASSERT_TRUE (report.success) << report.message;
-    EXPECT_EQ (report.stats.genus, 1);
-    expectClosedOfGenus (*cloud, polygons, 1);
+    expectClosesWithGenus (
+        toCloud (pcl::meshless::sampleShape (SyntheticShape::KnottedTube, {5000, seed, 0.0, 0.0})),
+        1);
   }
 }
 
@@ -144,17 +148,9 @@ TEST (ClosedTopology, ThinLimbsCloseAsGenusZero)
   for (const std::size_t n : {3000u, 5000u})
     for (std::uint32_t seed = 1; seed <= 3; ++seed) {
       SCOPED_TRACE (std::to_string (n) + " points, seed " + std::to_string (seed));
-      const auto cloud =
-          toCloud (pcl::meshless::sampleShape (SyntheticShape::ThinLimbs, {n, seed, 0.0, 0.0}));
-      Reconstruction reconstruction;
-      reconstruction.setTopology (Reconstruction::Topology::Closed);
-      reconstruction.setInputCloud (cloud);
-      std::vector<pcl::Vertices> polygons;
-      reconstruction.reconstruct (polygons);
-      const auto& report = reconstruction.getReport ();
-      ASSERT_TRUE (report.success) << report.message;
-      EXPECT_EQ (report.stats.genus, 0);
-      expectClosedOfGenus (*cloud, polygons, 0);
+      expectClosesWithGenus (
+          toCloud (pcl::meshless::sampleShape (SyntheticShape::ThinLimbs, {n, seed, 0.0, 0.0})),
+          0);
     }
 }
 
@@ -166,17 +162,11 @@ expectSharedCloudClosesWithGenus (const std::string& name, int genus)
   MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/" + name + ".pcd");
   auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
   ASSERT_EQ (pcl::io::loadPCDFile (path, *cloud), 0) << path;
-  Reconstruction reconstruction;
-  reconstruction.setTopology (Reconstruction::Topology::Closed);
-  reconstruction.setInputCloud (cloud);
-  std::vector<pcl::Vertices> polygons;
-  reconstruction.reconstruct (polygons);
-  const auto& report = reconstruction.getReport ();
-  ASSERT_TRUE (report.success) << name << ": " << report.message;
-  EXPECT_EQ (report.stats.genus, genus) << name;
-  expectClosedOfGenus (*cloud, polygons, genus);
+  SCOPED_TRACE (name);
+  std::size_t neighbours_k = 0;
+  expectClosesWithGenus (cloud, genus, &neighbours_k);
   // D may need twice the neighbours to be found; its paths and patches fit at k.
-  EXPECT_EQ (report.neighbours_k, 12u) << name;
+  EXPECT_EQ (neighbours_k, 12u);
 }
 
 TEST (ClosedTopology, SharedCloudsCloseWithTheirGenus)

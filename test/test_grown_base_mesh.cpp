@@ -62,6 +62,20 @@ expectValidRegions (const GrownBaseMesh& grown, const Points3& points, bool smal
   EXPECT_EQ (grown.mesh.point_faces, grown.region_of) << "the router's hint is the regions";
 }
 
+/** A torus as an m x m grid of quadrilaterals over vertices 0 .. m^2 - 1. */
+BaseMesh
+quadTorus (int m)
+{
+  BaseMesh torus;
+  for (int i = 0; i < m * m; ++i)
+    torus.vertices.push_back (i);
+  const auto at = [m] (int a, int b) { return (a % m) * m + (b % m); };
+  for (int i = 0; i < m; ++i)
+    for (int j = 0; j < m; ++j)
+      torus.faces.push_back ({at (i, j), at (i + 1, j), at (i + 1, j + 1), at (i, j + 1)});
+  return torus;
+}
+
 /** Every region is one piece of the graph. */
 void
 expectConnectedRegions (const GrownBaseMesh& grown, const CsrGraph& graph)
@@ -201,21 +215,13 @@ TEST (GrownBaseMesh, MergingKeepsTheGenusOfAPolygonalTorus)
 {
   // A torus as a 4 x 4 grid of quadrilaterals, one region of 10 points per face:
   // merges must stop before a face wraps around the torus (it would share two arcs).
-  BaseMesh torus;
-  for (int i = 0; i < 16; ++i)
-    torus.vertices.push_back (i);
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) {
-      const auto at = [] (int a, int b) { return (a % 4) * 4 + (b % 4); };
-      torus.faces.push_back ({at (i, j), at (i + 1, j), at (i + 1, j + 1), at (i, j + 1)});
-    }
   GrownBaseMesh grown;
   for (int f = 0; f < 16; ++f) {
     grown.seeds.push_back (f * 10);
     for (int k = 0; k < 10; ++k)
       grown.region_of.push_back (f);
   }
-  grown.mesh = torus;
+  grown.mesh = quadTorus (4);
   grown.genus = 1;
   grown.success = true;
   EXPECT_GT (mergeSmallRegions (grown, 1000), 0u);
@@ -230,14 +236,7 @@ TEST (GrownBaseMesh, MergingKeepsTheGenusOfAPolygonalTorus)
 TEST (GrownBaseMesh, ClosedBaseMeshGenusReadsPolygonalMeshes)
 {
   // A torus as a 3 x 3 grid of quadrilaterals: V = 9, E = 18, F = 9, genus 1.
-  BaseMesh torus;
-  for (int i = 0; i < 9; ++i)
-    torus.vertices.push_back (i);
-  for (int i = 0; i < 3; ++i)
-    for (int j = 0; j < 3; ++j) {
-      const auto at = [] (int a, int b) { return (a % 3) * 3 + (b % 3); };
-      torus.faces.push_back ({at (i, j), at (i + 1, j), at (i + 1, j + 1), at (i, j + 1)});
-    }
+  const BaseMesh torus = quadTorus (3);
   std::string problem;
   EXPECT_EQ (closedBaseMeshGenus (torus, 9, problem), 1) << problem;
   EXPECT_NE (validateBaseMesh (torus, 9).find ("genus 1"), std::string::npos)
