@@ -46,7 +46,8 @@ public:
                   const CsrGraph& graph,
                   const CsrGraph& rings,
                   const std::vector<char>& eligible,
-                  const GrownBaseMeshOptions& options)
+                  const GrownBaseMeshOptions& options,
+                  bool in_local_spacings)
   : points_ (points)
   , graph_ (graph)
   , rings_ (rings)
@@ -54,6 +55,7 @@ public:
   , n_ (points.size ())
   , initial_seeds_ (options.initial_seeds ? options.initial_seeds : initialSeedCount (n_))
   , start_ (options.start)
+  , in_local_spacings_ (in_local_spacings)
   , max_rounds_ (options.max_rounds)
   , max_seeds_ (std::max (initial_seeds_,
                           options.max_seeds ? options.max_seeds
@@ -73,6 +75,8 @@ public:
     }
     distance_.assign (n_, infinity);
     region_.assign (n_, -1);
+    if (in_local_spacings_)
+      measureSpacing ();
     plantSeed (firstSeed ());
     while (seeds_.size () < initial_seeds_) {
       const pcl::index_t next = farthestPoint ();
@@ -165,7 +169,7 @@ private:
       if (d > distance_[v] || region_[v] != label)
         continue;
       for (const pcl::index_t* w = graph_.begin (v); w != graph_.end (v); ++w) {
-        const double through = d + (points_[*w] - points_[v]).norm ();
+        const double through = d + edgeLength (v, *w);
         if (through < distance_[*w]) {
           distance_[*w] = through;
           region_[*w] = label;
@@ -173,6 +177,40 @@ private:
         }
       }
     }
+  }
+
+  /** An edge's length along which regions grow: in the cloud's units, or in local
+    * point spacings (spacing_ set). */
+  double
+  edgeLength (pcl::index_t v, pcl::index_t w) const
+  {
+    const double length = (points_[w] - points_[v]).norm ();
+    return spacing_.empty () ? length : length / (0.5 * (spacing_[v] + spacing_[w]));
+  }
+
+  /** Each point's mean distance to its graph neighbours, over their mean over the
+    * cloud: lengths divided by it count spacings, so regions hold about as many
+    * points where the sampling is sparse as where it is dense. */
+  void
+  measureSpacing ()
+  {
+    spacing_.assign (n_, 0.0);
+    double total = 0.0;
+    std::size_t measured = 0;
+    for (std::size_t v = 0; v < n_; ++v) {
+      double sum = 0.0;
+      for (const pcl::index_t* w = graph_.begin (v); w != graph_.end (v); ++w)
+        sum += (points_[*w] - points_[v]).norm ();
+      const auto degree = static_cast<double> (graph_.end (v) - graph_.begin (v));
+      if (degree > 0.0 && sum > 0.0) {
+        spacing_[v] = sum / degree;
+        total += spacing_[v];
+        ++measured;
+      }
+    }
+    const double mean = measured > 0 ? total / static_cast<double> (measured) : 1.0;
+    for (double& h : spacing_)
+      h = h > 0.0 ? h / mean : 1.0;
   }
 
   /** The farthest point from the seeds among those offered, eligible ones first. */
@@ -549,6 +587,7 @@ private:
   const std::size_t n_;
   const std::size_t initial_seeds_;
   const std::uint32_t start_;
+  const bool in_local_spacings_;
   const std::size_t max_rounds_;
   const std::size_t max_seeds_;
   std::vector<pcl::index_t> seeds_;
@@ -563,6 +602,9 @@ private:
   const TripleSupport no_support_;
   std::vector<double> distance_;
   std::vector<int> region_;
+  /** Per point, the local spacing over the cloud's mean; empty: lengths in the
+    * cloud's units. */
+  std::vector<double> spacing_;
   GrownBaseMesh result_;
 };
 
@@ -609,7 +651,12 @@ growBaseMesh (const Points3& points,
               const std::vector<char>& eligible,
               const GrownBaseMeshOptions& options)
 {
-  GrownBaseMesh grown = BaseMeshGrower (points, graph, rings, eligible, options).run ();
+  GrownBaseMesh grown = BaseMeshGrower (points, graph, rings, eligible, options, false).run ();
+  if (!grown.success && options.retry_in_local_spacings) {
+    GrownBaseMesh adapted = BaseMeshGrower (points, graph, rings, eligible, options, true).run ();
+    if (adapted.success)
+      grown = std::move (adapted);
+  }
   // A quarter of the initial regions' size: merged further, the patches of a tube's
   // long strips turn back over themselves where the sampling is uneven.
   const std::size_t initial =

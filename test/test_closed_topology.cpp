@@ -140,6 +140,19 @@ TEST (ClosedTopology, KnottedTubesOfAFewDozenPointsAroundClose)
   }
 }
 
+TEST (ClosedTopology, TubesOfUnevenDensityClose)
+{
+  // Density 4:1 along a double torus and a knotted tube a few dozen points around.
+  for (const SyntheticShape shape : {SyntheticShape::DoubleTorus, SyntheticShape::KnottedTube})
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+      SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " seed " +
+                    std::to_string (seed));
+      expectClosesWithGenus (
+          toCloud (pcl::meshless::sampleShape (shape, {5000, seed, 0.0, 4.0})),
+          pcl::meshless::syntheticGenus (shape));
+    }
+}
+
 TEST (ClosedTopology, ThinLimbsCloseAsGenusZero)
 {
   // Limbs a few points around: the rings there are too noisy to grow D from at small

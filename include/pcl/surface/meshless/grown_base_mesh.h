@@ -30,6 +30,12 @@ struct GrownBaseMeshOptions
     * to see the topology, the paths need room. 0 chooses a quarter of the points per
     * initial seed; 1 keeps every region. */
   std::size_t merge_regions_below = 0;
+  /** \brief Default: true. Where the regions fail to make a valid D, they grow once
+    * more with every length counted in local point spacings: where the density varies,
+    * regions of equal extent hold few points in the sparse parts, whose rings then
+    * read no clean dual, and many in the dense ones. Lengths in the cloud's units come
+    * first: on clouds they suit, their regions leave thin parts more room. */
+  bool retry_in_local_spacings = true;
 };
 
 /** \brief A base mesh D grown from the cloud, whatever its genus. */
