@@ -719,10 +719,12 @@ public:
 
   /** The angle pass (EdgeSwapOptions::improve_angles): swaps edges that are not
     * locally Delaunay in quads turning less than the bound, under the same
-    * admissibility rules and without adding intersecting pairs. Bounded by a number of swaps proportional
-    * to the mesh (on a plane it ends by itself; curved quads could cycle). */
+    * admissibility rules and without adding intersecting pairs; with
+    * `unfold_steep`, also in steeper quads where the swap makes them turn less.
+    * Bounded by a number of swaps proportional to the mesh (on a plane it ends by
+    * itself; curved quads could cycle). */
   void
-  improveAngles (double max_dihedral_deg)
+  improveAngles (double max_dihedral_deg, bool unfold_steep)
   {
     const double cos_flat = std::cos (max_dihedral_deg * pi / 180.0);
     // The descent is over: keeping its heap up to date would cost more than the
@@ -743,10 +745,12 @@ public:
       const Vec3 &a = p_[q.a], &b = p_[q.b], &c = p_[q.c], &d = p_[q.d];
       if (!oppositeAnglesExceedPi (a, b, c, d))
         continue;
-      if (normal (q.t0).dot (normal (q.t1)) < cos_flat || !feasible (q))
-        continue;
       const Vec3 n0 = normal (a, d, c), n1 = normal (d, b, c);
-      if (n0.dot (n1) < cos_flat * n0.norm () * n1.norm ())
+      const double new_length = n0.norm () * n1.norm ();
+      const double old_turn = normal (q.t0).dot (normal (q.t1)); // 0 if degenerate
+      const double new_turn = new_length > 0.0 ? n0.dot (n1) / new_length : -1.0;
+      const bool flat = old_turn >= cos_flat && new_turn >= cos_flat;
+      if ((!flat && !(unfold_steep && new_turn > old_turn)) || !feasible (q))
         continue;
       if (!swapUnlessMoreIntersections (q))
         continue;
@@ -1544,7 +1548,8 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
       count (result.descent_swaps);
     }
     if (options.improve_angles) {
-      optimizer.improveAngles (options.angle_pass_max_dihedral_deg);
+      optimizer.improveAngles (options.angle_pass_max_dihedral_deg,
+                               options.angle_pass_unfolds_steep_quads && !result.noisy);
       count (result.angle_swaps);
     }
     result.cost_after = optimizer.totalCost ();

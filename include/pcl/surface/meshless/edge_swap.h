@@ -103,11 +103,17 @@ struct SwapRules
     * descent only. */
   bool descent_keeps_longest_edge = true;
   /** \brief Default: 60. Quads turning more than this (degrees) are left alone by
-    * the angle pass. A low bound leaves the descent's slivers on curved parts, whose
-    * chords lie off the surface; much above 60 the pass pulls a noisy sample's mesh
-    * off its points and flattens the folds by which a closed mesh through an open
-    * surface shows that it turns back. */
+    * the angle pass, but for angle_pass_unfolds_steep_quads. A low bound leaves the
+    * descent's slivers on curved parts, whose chords lie off the surface; much above
+    * 60 the pass pulls a noisy sample's mesh off its points and flattens the folds by
+    * which a closed mesh through an open surface shows that it turns back. */
   double angle_pass_max_dihedral_deg = 60.0;
+  /** \brief Default: true. On input that is not noisy (noisy_median_dihedral_deg),
+    * the angle pass also swaps a steeper quad's edge where the two new triangles
+    * turn less against each other than the old ones did: triangles folded across a
+    * part, off the surface, open out, while a swap never sharpens a fold or a
+    * crease. */
+  bool angle_pass_unfolds_steep_quads = true;
 };
 
 /** \brief The swaps' rules and what the caller knows of its mesh and machine. */
