@@ -1,5 +1,6 @@
 // The project's own generated clouds: deterministic, on their shapes, evenly spread.
 #include <meshless_tools/synthetic_clouds.h>
+#include <pcl/surface/meshless/neighbourhood_graph.h>
 
 #include "test_support.h"
 
@@ -287,4 +288,24 @@ TEST (SyntheticClouds, KnottedTubeDoesNotTouchItself)
             << largest_curvature << "\n";
   EXPECT_GT (closest, 2.0 * tube_radius + 0.1);
   EXPECT_LT (tube_radius * largest_curvature, 0.9);
+}
+
+TEST (SyntheticClouds, ClustersFallApartAtTwelveNeighbours)
+{
+  // Clusters of 16 and 32 points: the 12 nearest neighbours of every point stay in
+  // its cluster, so the 12-nearest-neighbour graph has one piece per cluster; on the
+  // shape, same seed same cloud.
+  for (const std::size_t size : {16u, 32u}) {
+    SyntheticCloudOptions options{3200, 5, 0.0};
+    options.cluster_size = size;
+    const Points3 points = sampleShape (SyntheticShape::Sphere, options);
+    EXPECT_EQ (points, sampleShape (SyntheticShape::Sphere, options));
+    ASSERT_EQ (points.size (), 3200 / size * size);
+    for (const auto& p : points)
+      EXPECT_NEAR (p.norm (), 1.0, 1e-12);
+    std::vector<pcl::index_t> labels;
+    const std::size_t pieces = pcl::meshless::connectedComponents (
+        pcl::meshless::symmetricGraph (meshless_test::bruteForceKnn (points, 12)), labels);
+    EXPECT_GT (pieces, 3200 / size / 2) << "cluster size " << size;
+  }
 }

@@ -453,6 +453,33 @@ sampleUnevenly (SyntheticShape shape, std::size_t n, double ratio, std::mt19937&
   }
 }
 
+/** Clusters of `size` points: the points of a sample eight times as dense nearest to
+  * each point of an even sample of n / size centres. */
+Points3
+sampleInClusters (SyntheticShape shape, std::size_t n, std::size_t size, std::mt19937& random)
+{
+  const std::size_t centres = std::max<std::size_t> (1, n / size);
+  const Points3 centre = sampleUniformly (shape, centres, random);
+  const Points3 dense = sampleUniformly (shape, 8 * centres * size, random);
+  std::vector<std::vector<std::pair<double, std::size_t>>> nearest (centre.size ());
+  for (std::size_t i = 0; i < dense.size (); ++i) {
+    std::size_t best = 0;
+    for (std::size_t c = 1; c < centre.size (); ++c)
+      if ((dense[i] - centre[c]).squaredNorm () < (dense[i] - centre[best]).squaredNorm ())
+        best = c;
+    nearest[best].emplace_back ((dense[i] - centre[best]).squaredNorm (), i);
+  }
+  Points3 points;
+  points.reserve (centres * size);
+  for (auto& members : nearest) {
+    const std::size_t keep = std::min (size, members.size ());
+    std::partial_sort (members.begin (), members.begin () + keep, members.end ());
+    for (std::size_t j = 0; j < keep; ++j)
+      points.push_back (dense[members[j].second]);
+  }
+  return points;
+}
+
 } // namespace
 
 int
@@ -482,9 +509,11 @@ Points3
 sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
 {
   std::mt19937 random (options.seed);
-  Points3 points = options.uneven > 1.0
-                       ? sampleUnevenly (shape, options.num_points, options.uneven, random)
-                       : sampleUniformly (shape, options.num_points, random);
+  Points3 points =
+      options.uneven > 1.0 ? sampleUnevenly (shape, options.num_points, options.uneven, random)
+      : options.cluster_size > 1
+          ? sampleInClusters (shape, options.num_points, options.cluster_size, random)
+          : sampleUniformly (shape, options.num_points, random);
   if (options.noise > 0.0 && !points.empty ()) {
     const BoundingBox box = boundingBox (points);
     std::normal_distribution<double> gauss (0.0, options.noise * (box.hi - box.lo).norm ());
