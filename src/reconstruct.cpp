@@ -8,6 +8,7 @@
 #include <pcl/surface/meshless/disc_pipeline.h>
 #include "handles.h"
 #include <pcl/surface/meshless/grown_base_mesh.h>
+#include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/surface_graphs.h>
 #include "common/freed_memory.h"
 #include <pcl/surface/meshless/reconstruct.h>
@@ -119,6 +120,7 @@ public:
   , points_ (prepared.points)
   , search_ (search)
   , options_ (options)
+  , k_ (options.k)
   , closed_ (options.topology != Topology::Disc)
   , record_ ([this] (const ProgressReport& stage) {
     result_.report.stage_seconds.emplace_back (stage.stage, stage.seconds);
@@ -164,6 +166,8 @@ private:
   handlesWithDenserNeighbourhoods () const;
   Neighbourhoods
   twiceAsManyNeighbours () const;
+  std::string
+  joinPiecesOfOneSurface ();
   SurfaceGraphs
   surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const;
   std::string
@@ -181,6 +185,9 @@ private:
   const Points3& points_;
   const NeighbourSearch& search_;
   const ReconstructionOptions& options_;
+  /** The neighbours per point the run uses: options_.k, or more where the graph at
+    * options_.k falls apart into pieces of one surface. */
+  int k_;
   const bool closed_;
   CurrentResult result_;
   ProgressCallback record_;
@@ -212,16 +219,17 @@ bool
 Conductor::searchNeighbourhoods ()
 {
   clock_.restart ();
-  neighbourhoods_ = search_ (options_.k);
+  neighbourhoods_ = search_ (k_);
   if (!neighbourhoods_.success)
     return fail (neighbourhoods_.message);
   if (neighbourhoods_.num_empty > 0)
     return fail (std::to_string (neighbourhoods_.num_empty) + " point(s) have no neighbour" +
                  (options_.radius > 0.0 ? " within the search radius (increase setSearchRadius)"
                                         : " (check setNumberOfNeighbours)"));
-  if (!clock_.done ("neighbourhoods", 0.02, std::to_string (points_.size ()) + " points"))
+  const std::string pieces = joinPiecesOfOneSurface ();
+  if (!clock_.done ("neighbourhoods", 0.02, std::to_string (points_.size ()) + " points" + pieces))
     return fail ("cancelled by the progress callback");
-  result_.report.neighbours_k = options_.radius > 0.0 ? 0 : options_.k;
+  result_.report.neighbours_k = options_.radius > 0.0 ? 0 : k_;
   return true;
 }
 
@@ -326,6 +334,38 @@ Conductor::surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const
   return buildSurfaceGraphs (points_, neighbourhoods.neighbours, graphs);
 }
 
+/** \brief Where the k nearest neighbours fall apart into dense groups of one
+  * surface (the vertices of a mesh whose long thin triangles join small clusters),
+  * 2k, 3k or 4k neighbours, the first that join every piece along the surface,
+  * replace them. Separate objects stay apart: far apart, no wider neighbourhood
+  * joins them; nearly touching, the joins run across their surfaces.
+  * \return a note for the stage line, empty if nothing changed. */
+std::string
+Conductor::joinPiecesOfOneSurface ()
+{
+  std::vector<pcl::index_t> pieces;
+  const std::size_t count = connectedComponents (symmetricGraph (neighbourhoods_.neighbours), pieces);
+  if (count <= 1 || options_.radius > 0.0)
+    return "";
+  for (int factor = 2; factor <= 4; ++factor) {
+    Neighbourhoods wider = search_ (factor * options_.k);
+    std::vector<pcl::index_t> joined;
+    if (!wider.success || wider.num_empty > 0 ||
+        connectedComponents (symmetricGraph (wider.neighbours), joined) != 1)
+      continue;
+    // Clusters of one surface join about all along it, a mesh's vertices around
+    // long thin triangles about half; objects that nearly touch none.
+    if (joinsAlongTheSurface (points_, neighbourhoods_.neighbours, pieces, wider.neighbours) <
+        0.25)
+      return "";
+    neighbourhoods_ = std::move (wider);
+    k_ = factor * options_.k;
+    return ", the " + std::to_string (options_.k) + "-nearest-neighbour graph fell into " +
+           std::to_string (count) + " pieces of one surface: k = " + std::to_string (k_);
+  }
+  return "";
+}
+
 /** \brief The 2k nearest neighbours where the rings at k disagree too much to grow D;
   * not successful with a search radius, or if some point has none. */
 Neighbourhoods
@@ -333,7 +373,7 @@ Conductor::twiceAsManyNeighbours () const
 {
   if (options_.radius > 0.0)
     return {};
-  Neighbourhoods denser = search_ (2 * options_.k);
+  Neighbourhoods denser = search_ (2 * k_);
   if (denser.num_empty > 0)
     denser.success = false;
   return denser;
@@ -351,7 +391,7 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
   clock_.restart ();
   Neighbourhoods denser = twiceAsManyNeighbours ();
   if (!denser.success ||
-      !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (2 * options_.k)))
+      !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (2 * k_)))
     return;
   if (routedAtK (options, denser, first) || cancelled_)
     return;
@@ -366,7 +406,7 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
   }
   first = std::move (second);
   neighbourhoods_ = std::move (denser);
-  result_.report.neighbours_k = 2 * options_.k;
+  result_.report.neighbours_k = 2 * k_;
 }
 
 /** \brief A D of genus above 0 grown at 2k, routed and mapped at k: wider

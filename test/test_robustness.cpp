@@ -505,6 +505,37 @@ TEST (Robustness, TwoDisjointSpheres)
   expectFailure (expectContract (cloud), "disconnected");
 }
 
+TEST (Robustness, TwoSpheresNearlyTouchingStayApart)
+{
+  // A gap about twice the spacing: 12 neighbours see one sphere each, 24 join them,
+  // but across the surfaces, not along them: two objects, refused.
+  auto cloud = shape (SyntheticShape::Sphere, 1000);
+  const auto second = shape (SyntheticShape::Sphere, 1000, 2);
+  for (const auto& p : *second)
+    cloud->push_back (pcl::PointXYZ (p.x + 2.25f, p.y, p.z));
+  expectFailure (expectContract (cloud), "disconnected");
+}
+
+TEST (Robustness, ClustersOfOneSurfaceAreJoined)
+{
+  // The vertices of a mesh whose long thin triangles join small dense groups: the
+  // 12-nearest-neighbour graph falls into one piece per cluster. The pieces join
+  // along the surface with more neighbours, and every member closes.
+  for (const SyntheticShape s : {SyntheticShape::Sphere, SyntheticShape::BumpySphere})
+    for (const std::size_t size : {16u, 32u})
+      for (const std::uint32_t seed : {1u, 2u}) {
+        SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (s)) + " clusters of " +
+                      std::to_string (size) + " seed " + std::to_string (seed));
+        pcl::meshless::SyntheticCloudOptions options{4000, seed, 0.0};
+        options.cluster_size = size;
+        const auto cloud = toCloud (pcl::meshless::sampleShape (s, options));
+        Reconstruction reconstruction;
+        reconstruction.setInputCloud (cloud);
+        expectMesh (expectContract (reconstruction, expectedVertices (*cloud)));
+        EXPECT_GT (reconstruction.getReport ().neighbours_k, 12u);
+      }
+}
+
 // ---------------------------------------------------------------- parameters
 
 TEST (Robustness, KLargerThanTheCloud)

@@ -66,5 +66,19 @@ transposeGraph (std::size_t n, const pcl::index_t* offsets, const pcl::index_t* 
 std::size_t
 connectedComponents (const CsrGraph& graph, std::vector<pcl::index_t>& labels);
 
+/** \brief How the edges of a wider neighbourhood graph join the pieces of a narrower
+  * one: the fraction of its edges between two pieces that run along the surface,
+  * within 45 degrees of the planes the narrower rows span at both ends (1 if no edge
+  * joins pieces). Pieces of one surface sampled in dense groups join along it; two
+  * objects that nearly touch join across their surfaces.
+  * \param[in] rows the narrower (directed) neighbourhoods
+  * \param[in] labels their symmetric graph's component of every point
+  * \param[in] wider the wider (directed) neighbourhoods */
+double
+joinsAlongTheSurface (const Points3& points,
+                      const CsrGraph& rows,
+                      const std::vector<pcl::index_t>& labels,
+                      const CsrGraph& wider);
+
 } // namespace meshless
 } // namespace pcl
