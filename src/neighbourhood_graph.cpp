@@ -3,13 +3,12 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/meshless/ordered_neighbourhoods.h>
 
 #include "common/threads.h"
 
 #include <algorithm>
 #include <cmath>
-
-#include <Eigen/Eigenvalues>
 
 namespace pcl {
 namespace meshless {
@@ -116,42 +115,36 @@ connectedComponents (const CsrGraph& graph, std::vector<pcl::index_t>& labels)
   return static_cast<std::size_t> (next_label);
 }
 
-namespace {
-
-/** The unit normal of the plane through v and its row: the least spread direction. */
-Eigen::Vector3d
-rowPlaneNormal (const Points3& points, const CsrGraph& rows, pcl::index_t v)
-{
-  Eigen::Vector3d mean = points[v];
-  for (const pcl::index_t* w = rows.begin (v); w != rows.end (v); ++w)
-    mean += points[*w];
-  mean /= static_cast<double> (rows.degree (v) + 1);
-  Eigen::Matrix3d spread = (points[v] - mean) * (points[v] - mean).transpose ();
-  for (const pcl::index_t* w = rows.begin (v); w != rows.end (v); ++w)
-    spread += (points[*w] - mean) * (points[*w] - mean).transpose ();
-  return Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> (spread).eigenvectors ().col (0);
-}
-
-} // namespace
-
 double
 joinsAlongTheSurface (const Points3& points,
                       const CsrGraph& rows,
                       const std::vector<pcl::index_t>& labels,
                       const CsrGraph& wider)
 {
+  const std::size_t n = points.size ();
+  if (rows.size () != n || labels.size () != n || wider.size () != n)
+    return 0.0;
+  // Each end's plane is fitted once, on the first join that reaches it.
+  std::vector<Eigen::Vector3d> normal (n);
+  std::vector<char> fitted (n, 0);
   const double sin_45 = std::sqrt (0.5);
-  std::size_t joins = 0, along = 0;
-  for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (wider.size ()); ++v)
+  const auto along = [&] (pcl::index_t v, const Eigen::Vector3d& step) {
+    if (!fitted[v]) {
+      normal[v] = leastSquaresNormal (points, v, rows.begin (v), rows.end (v), true);
+      fitted[v] = 1;
+    }
+    return !normal[v].isZero () && std::abs (normal[v].dot (step)) <= sin_45;
+  };
+  std::size_t joins = 0, joins_along = 0;
+  for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (n); ++v)
     for (const pcl::index_t* w = wider.begin (v); w != wider.end (v); ++w) {
       if (labels[*w] == labels[v])
         continue;
       ++joins;
       const Eigen::Vector3d step = (points[*w] - points[v]).normalized ();
-      along += std::abs (rowPlaneNormal (points, rows, v).dot (step)) <= sin_45 &&
-               std::abs (rowPlaneNormal (points, rows, *w).dot (step)) <= sin_45;
+      joins_along += along (v, step) && along (*w, step);
     }
-  return joins == 0 ? 1.0 : static_cast<double> (along) / static_cast<double> (joins);
+  return joins == 0 ? 1.0 : static_cast<double> (joins_along) / static_cast<double> (joins);
 }
 
 } // namespace meshless

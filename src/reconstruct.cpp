@@ -194,6 +194,7 @@ private:
   StageClock clock_;
   MeshFinisher finisher_;
   std::string precision_hint_; // appended to failures once the points are known
+  std::string pieces_hint_;    // why a graph in pieces stayed in pieces
   Neighbourhoods neighbourhoods_;
   SpherePipelineOptions first_options_; // the first run's, which the retries vary
   bool cancelled_ = false;              // the user's callback said cancel, anywhere
@@ -210,7 +211,7 @@ Conductor::fail (const std::string& reason)
                     "the genus is unknown: a handle about as thin as the point spacing "
                     "would look like this)";
   }
-  result_.report.message = reason + unknown_genus + precision_hint_;
+  result_.report.message = reason + unknown_genus + pieces_hint_ + precision_hint_;
   result_.triangles.clear ();
   return false;
 }
@@ -335,29 +336,38 @@ Conductor::surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const
 }
 
 /** \brief Where the k nearest neighbours fall apart into dense groups of one
-  * surface (the vertices of a mesh whose long thin triangles join small clusters),
-  * 2k, 3k or 4k neighbours, the first that join every piece along the surface,
-  * replace them. Separate objects stay apart: far apart, no wider neighbourhood
+  * closed surface (the vertices of a mesh whose long thin triangles join small
+  * clusters), 2k, 3k or 4k neighbours, the first that join every piece along the
+  * surface, replace them. Not for open surfaces: a scan's shadow would be bridged. Separate objects stay apart: far apart, no wider neighbourhood
   * joins them; nearly touching, the joins run across their surfaces.
   * \return a note for the stage line, empty if nothing changed. */
 std::string
 Conductor::joinPiecesOfOneSurface ()
 {
-  std::vector<pcl::index_t> pieces;
-  const std::size_t count = connectedComponents (symmetricGraph (neighbourhoods_.neighbours), pieces);
-  if (count <= 1 || options_.radius > 0.0)
+  if (!closed_ || options_.radius > 0.0)
     return "";
-  for (int factor = 2; factor <= 4; ++factor) {
+  const int threads = static_cast<int> (options_.num_threads);
+  std::vector<pcl::index_t> pieces;
+  const std::size_t count =
+      connectedComponents (symmetricGraph (neighbourhoods_.neighbours, threads), pieces);
+  if (count <= 1)
+    return "";
+  // Clusters of one surface join about all along it, a mesh's vertices around long
+  // thin triangles about half, objects that nearly touch not at all.
+  const double min_joins_along = 0.25;
+  for (int factor = 2; factor <= 4 && !cancelled_; ++factor) {
     Neighbourhoods wider = search_ (factor * options_.k);
     std::vector<pcl::index_t> joined;
     if (!wider.success || wider.num_empty > 0 ||
-        connectedComponents (symmetricGraph (wider.neighbours), joined) != 1)
+        connectedComponents (symmetricGraph (wider.neighbours, threads), joined) != 1)
       continue;
-    // Clusters of one surface join about all along it, a mesh's vertices around
-    // long thin triangles about half; objects that nearly touch none.
     if (joinsAlongTheSurface (points_, neighbourhoods_.neighbours, pieces, wider.neighbours) <
-        0.25)
+        min_joins_along) {
+      pieces_hint_ = " (" + std::to_string (factor * options_.k) +
+                     " neighbours join its pieces only across their surfaces: separate "
+                     "objects)";
       return "";
+    }
     neighbourhoods_ = std::move (wider);
     k_ = factor * options_.k;
     return ", the " + std::to_string (options_.k) + "-nearest-neighbour graph fell into " +

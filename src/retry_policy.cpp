@@ -356,7 +356,7 @@ RetryPolicy::run (const SpherePipelineOptions& first_options, const NeighbourSea
   retrySequence (first_options, report.stats);
   if (options_.base_faces.empty () && options_.radius == 0.0 && options_.base_retries > 0 &&
       report.mesh.self_intersecting_pairs > 0 && !currentTurnsBack () &&
-      static_cast<std::size_t> (options_.k) + 2 < points_.size () &&
+      static_cast<std::size_t> (std::max (options_.k, report.neighbours_k)) + 2 < points_.size () &&
       !retryDenser (first_options, search))
     return false;
   if (!report.convex_hull && report.mesh.self_intersecting_pairs > 0 &&

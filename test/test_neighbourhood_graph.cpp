@@ -289,3 +289,34 @@ TEST (NeighbourhoodGraph, KAndCapUpToIntMaxGiveEveryOtherPoint)
   for (std::size_t v = 0; v < 30; ++v)
     EXPECT_EQ (result.neighbours.degree (v), 29);
 }
+
+TEST (NeighbourhoodGraph, PiecesJoinAlongOrAcrossTheSurface)
+{
+  // Two strips of a plane, 0.2 apart, each a piece at 4 neighbours and joined by
+  // 20: along the plane. The same strips stacked 0.25 above each other: joined
+  // across them.
+  pcl::meshless::Points3 flat, stacked;
+  for (int piece = 0; piece < 2; ++piece)
+    for (int i = 0; i < 20; ++i)
+      for (int j = 0; j < 3; ++j) {
+        const double x = 0.1 * i + 0.013 * j, y = 0.1 * j;
+        flat.emplace_back (x, y + piece * 0.4, 0.0);
+        stacked.emplace_back (x, y, piece * 0.25);
+      }
+  for (const auto* points : {&flat, &stacked}) {
+    const auto narrow = meshless_test::bruteForceKnn (*points, 4);
+    std::vector<pcl::index_t> labels;
+    ASSERT_GT (pcl::meshless::connectedComponents (pcl::meshless::symmetricGraph (narrow), labels),
+               1u);
+    const auto wide = meshless_test::bruteForceKnn (*points, 20);
+    std::vector<pcl::index_t> joined;
+    ASSERT_EQ (pcl::meshless::connectedComponents (pcl::meshless::symmetricGraph (wide), joined),
+               1u);
+    const double along = pcl::meshless::joinsAlongTheSurface (*points, narrow, labels, wide);
+    if (points == &flat)
+      EXPECT_GT (along, 0.5);
+    else
+      EXPECT_LT (along, 0.25);
+  }
+  EXPECT_EQ (pcl::meshless::joinsAlongTheSurface (flat, {}, {}, {}), 0.0) << "sizes differ";
+}

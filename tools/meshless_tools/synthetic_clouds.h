@@ -58,11 +58,11 @@ struct SyntheticCloudOptions
     * uniform. */
   double uneven = 0.0;
   /** \brief Points per cluster: the cloud comes in small dense clusters around an
-    * even sample of the shape, eight times as dense within a cluster as the cloud
-    * is on average, the gaps between clusters about one and a half times a
-    * cluster's width (like the vertices of a mesh whose long thin triangles join
-    * small dense groups). Above 12 the 12 nearest neighbours of every point stay in
-    * its cluster. 0: no clusters. Ignored with `uneven`. */
+    * even sample of the shape, the gaps between them wider than a cluster (like the
+    * vertices of a mesh whose long thin triangles join small dense groups), so that
+    * a point's nearest neighbours, fewer than a cluster, mostly stay in it. The
+    * count is rounded down to whole clusters. Quadratic in the points: for clouds
+    * of some thousands. 0: no clusters. Ignored with `uneven`. */
   std::size_t cluster_size = 0;
 };
 

@@ -111,8 +111,9 @@ struct SwapRules
   /** \brief Default: true. On input that is not noisy (noisy_median_dihedral_deg),
     * the angle pass also swaps a steeper quad's edge where the two new triangles
     * turn less against each other than the old ones did: triangles folded across a
-    * part, off the surface, open out, while a swap never sharpens a fold or a
-    * crease. */
+    * part, off the surface, open out. The quad's own turn only drops (the fold
+    * bound still limits how far the new triangles tilt); its four sides are not
+    * looked at. */
   bool angle_pass_unfolds_steep_quads = true;
 };
 

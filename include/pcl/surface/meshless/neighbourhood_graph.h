@@ -73,7 +73,8 @@ connectedComponents (const CsrGraph& graph, std::vector<pcl::index_t>& labels);
   * objects that nearly touch join across their surfaces.
   * \param[in] rows the narrower (directed) neighbourhoods
   * \param[in] labels their symmetric graph's component of every point
-  * \param[in] wider the wider (directed) neighbourhoods */
+  * \param[in] wider the wider (directed) neighbourhoods
+  * \return 0 if the sizes of the graphs and labels differ from the points' */
 double
 joinsAlongTheSurface (const Points3& points,
                       const CsrGraph& rows,

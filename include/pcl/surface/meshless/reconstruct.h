@@ -96,8 +96,10 @@ struct ReconstructionReport
     * whether one of them gave the result (fewer intersecting pairs). */
   std::size_t base_retries = 0;
   bool base_retry_kept = false;
-  /** \brief The k of the neighbourhoods the result came from: the given one, or
-    * two more where folds were left with it (0 with a search radius). */
+  /** \brief The k of the neighbourhoods the result came from: the given one; two,
+    * three or four times it where the given one's graph fell into pieces of one
+    * closed surface; twice it where a closed surface's regions grew only there; two
+    * more where folds were left (0 with a search radius). */
   int neighbours_k = 0;
   /** \brief The edge-swap optimization (when enabled). */
   EdgeSwapResult optimization;
