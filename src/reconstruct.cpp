@@ -13,6 +13,7 @@
 #include "common/freed_memory.h"
 #include <pcl/surface/meshless/reconstruct.h>
 #include "common/spatial_order.h"
+#include "common/union_find.h"
 
 #include <Eigen/Eigenvalues> // SelfAdjointEigenSolver
 
@@ -166,7 +167,7 @@ private:
   handlesWithDenserNeighbourhoods () const;
   Neighbourhoods
   twiceAsManyNeighbours () const;
-  std::string
+  bool
   joinPiecesOfOneSurface ();
   SurfaceGraphs
   surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const;
@@ -227,8 +228,7 @@ Conductor::searchNeighbourhoods ()
     return fail (std::to_string (neighbourhoods_.num_empty) + " point(s) have no neighbour" +
                  (options_.radius > 0.0 ? " within the search radius (increase setSearchRadius)"
                                         : " (check setNumberOfNeighbours)"));
-  const std::string pieces = joinPiecesOfOneSurface ();
-  if (!clock_.done ("neighbourhoods", 0.02, std::to_string (points_.size ()) + " points" + pieces))
+  if (!clock_.done ("neighbourhoods", 0.02, std::to_string (points_.size ()) + " points"))
     return fail ("cancelled by the progress callback");
   result_.report.neighbours_k = options_.radius > 0.0 ? 0 : k_;
   return true;
@@ -281,6 +281,8 @@ Conductor::firstSphereRun ()
   first_options_ = options;
   first_options_.refuse_handles = false; // the first run looks for them; its retries need not
   SphereTriangulation first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
+  if (!first.success && first.stats.graph_pieces > 1 && !cancelled_ && joinPiecesOfOneSurface ())
+    first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
   if (!first.success && options.grown_base_mesh && first.stats.genus < 0)
     growWithDenserNeighbourhoods (options, first);
   if (!first.success && options.grown_base_mesh && first.stats.genus < 0 &&
@@ -335,45 +337,68 @@ Conductor::surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const
   return buildSurfaceGraphs (points_, neighbourhoods.neighbours, graphs);
 }
 
+/** \brief Connected pieces of the graph the directed rows make, and each point's
+  * piece (its smallest point) if asked: the symmetric graph's components, without
+  * building it. */
+std::size_t
+piecesOf (const CsrGraph& rows, std::vector<pcl::index_t>* labels)
+{
+  DisjointSets<pcl::index_t> sets (rows.size ());
+  for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (rows.size ()); ++v)
+    for (const pcl::index_t* w = rows.begin (v); w != rows.end (v); ++w)
+      sets.join (v, *w);
+  std::size_t count = 0;
+  for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (rows.size ()); ++v)
+    count += sets.isRoot (v);
+  if (labels) {
+    labels->resize (rows.size ());
+    for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (rows.size ()); ++v)
+      (*labels)[v] = sets.find (v);
+  }
+  return count;
+}
+
 /** \brief Where the k nearest neighbours fall apart into dense groups of one
   * closed surface (the vertices of a mesh whose long thin triangles join small
   * clusters), 2k, 3k or 4k neighbours, the first that join every piece along the
-  * surface, replace them. Not for open surfaces: a scan's shadow would be bridged. Separate objects stay apart: far apart, no wider neighbourhood
+  * surface, replace them, once a run has failed on the pieces (the check would cost
+  * every run a pass over the graph). Not for open surfaces: a scan's shadow would
+  * be bridged. Separate objects stay apart: far apart, no wider neighbourhood
   * joins them; nearly touching, the joins run across their surfaces.
-  * \return a note for the stage line, empty if nothing changed. */
-std::string
+  * \return true if they were replaced (and the stage line says so). */
+bool
 Conductor::joinPiecesOfOneSurface ()
 {
   if (!closed_ || options_.radius > 0.0)
-    return "";
-  const int threads = static_cast<int> (options_.num_threads);
+    return false;
+  clock_.restart ();
   std::vector<pcl::index_t> pieces;
-  const std::size_t count =
-      connectedComponents (symmetricGraph (neighbourhoods_.neighbours, threads), pieces);
+  const std::size_t count = piecesOf (neighbourhoods_.neighbours, &pieces);
   if (count <= 1)
-    return "";
+    return false;
   // Clusters of one surface join about all along it, a mesh's vertices around long
   // thin triangles about half, objects that nearly touch not at all.
   const double min_joins_along = 0.25;
   for (int factor = 2; factor <= 4 && !cancelled_; ++factor) {
     Neighbourhoods wider = search_ (factor * options_.k);
-    std::vector<pcl::index_t> joined;
-    if (!wider.success || wider.num_empty > 0 ||
-        connectedComponents (symmetricGraph (wider.neighbours, threads), joined) != 1)
+    if (!wider.success || wider.num_empty > 0 || piecesOf (wider.neighbours, nullptr) != 1)
       continue;
     if (joinsAlongTheSurface (points_, neighbourhoods_.neighbours, pieces, wider.neighbours) <
         min_joins_along) {
       pieces_hint_ = " (" + std::to_string (factor * options_.k) +
                      " neighbours join its pieces only across their surfaces: separate "
                      "objects)";
-      return "";
+      return false;
     }
     neighbourhoods_ = std::move (wider);
     k_ = factor * options_.k;
-    return ", the " + std::to_string (options_.k) + "-nearest-neighbour graph fell into " +
-           std::to_string (count) + " pieces of one surface: k = " + std::to_string (k_);
+    result_.report.neighbours_k = k_;
+    return clock_.done ("neighbourhoods", 0.02,
+                        "the " + std::to_string (options_.k) +
+                            "-nearest-neighbour graph fell into " + std::to_string (count) +
+                            " pieces of one surface: k = " + std::to_string (k_));
   }
-  return "";
+  return false;
 }
 
 /** \brief The 2k nearest neighbours where the rings at k disagree too much to grow D;

@@ -144,6 +144,7 @@ private:
                                    [&] (const std::string& name, const std::string& detail) {
                                      return clock_.done (name, stage_fraction[stage++], detail);
                                    });
+    result_.stats.graph_pieces = surface_.pieces;
     if (!surface_.success) {
       result_.message = surface_.message;
       return false;

@@ -92,7 +92,8 @@ buildSurfaceGraphs (const Points3& points,
 
   result.graph = symmetricGraph (neighbourhoods, options.num_threads);
   std::vector<pcl::index_t> component;
-  if (connectedComponents (result.graph, component) != 1) {
+  result.pieces = connectedComponents (result.graph, component);
+  if (result.pieces != 1) {
     result.message = "the neighbourhood graph is disconnected (several objects, outliers, "
                      "or too few neighbours: increase k or the radius)";
     return result;

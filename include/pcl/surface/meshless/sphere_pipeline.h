@@ -117,6 +117,9 @@ struct SpherePipelineStats
     * attempt: they are released before the patch solves (for the peak memory) and
     * rebuilt when a patch or the merge fails. */
   std::size_t rebuilds = 0;
+  /** \brief Connected components of the neighbourhood graph (more than one: the
+    * run failed before any base mesh). */
+  std::size_t graph_pieces = 0;
 };
 
 struct SphereTriangulation : StageStatus

@@ -20,6 +20,8 @@ struct SurfaceGraphs : StageStatus
 {
   /** \brief The symmetric connectivity graph G. */
   CsrGraph graph;
+  /** \brief Connected components of G (more than one: the build failed). */
+  std::size_t pieces = 0;
   /** \brief Rings and normals, oriented (orientNormals). */
   OrderedNeighbourhoods ordered;
   /** \brief Edges both end points' rings agree on (mutualRingGraph). */
