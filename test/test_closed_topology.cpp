@@ -11,6 +11,8 @@
 
 #include "test_support.h"
 
+#include <algorithm>
+#include <cmath>
 #include <map>
 #include <set>
 
@@ -150,6 +152,51 @@ TEST (ClosedTopology, TubesOfUnevenDensityClose)
       expectClosesWithGenus (
           toCloud (pcl::meshless::sampleShape (shape, {5000, seed, 0.0, 4.0})),
           pcl::meshless::syntheticGenus (shape));
+    }
+}
+
+TEST (ClosedTopology, NoTriangleLiesFarFromAGeneratedSurface)
+{
+  // Shapes whose distance function is known exactly: every triangle's centroid and
+  // edge midpoints lie within a quarter of the median edge of the surface (a chord
+  // departs from it by about its length squared times the curvature; a triangle
+  // across a torus' hole or tube would lie a radius away).
+  const auto distance = [] (SyntheticShape shape, const Eigen::Vector3d& p) {
+    if (shape == SyntheticShape::Sphere)
+      return std::abs (p.norm () - 1.0);
+    const double tube = shape == SyntheticShape::ThinTorus  ? 0.15
+                        : shape == SyntheticShape::FatTorus ? 0.6
+                                                            : 0.35;
+    return std::abs (std::hypot (std::hypot (p.x (), p.y ()) - 1.0, p.z ()) - tube);
+  };
+  for (const SyntheticShape shape : {SyntheticShape::Sphere, SyntheticShape::Torus,
+                                     SyntheticShape::ThinTorus, SyntheticShape::FatTorus})
+    for (const std::size_t n : {2000u, 5000u}) {
+      SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " n " +
+                    std::to_string (n));
+      const auto points = pcl::meshless::sampleShape (shape, {n, 1, 0.0, 0.0});
+      const auto cloud = toCloud (points);
+      Reconstruction reconstruction;
+      reconstruction.setTopology (Reconstruction::Topology::Closed);
+      reconstruction.setInputCloud (cloud);
+      std::vector<pcl::Vertices> polygons;
+      reconstruction.reconstruct (polygons);
+      ASSERT_TRUE (reconstruction.getReport ().success) << reconstruction.getReport ().message;
+      std::vector<double> edges;
+      for (const auto& t : polygons)
+        for (int k = 0; k < 3; ++k)
+          edges.push_back ((points[t.vertices[k]] - points[t.vertices[(k + 1) % 3]]).norm ());
+      std::nth_element (edges.begin (), edges.begin () + edges.size () / 2, edges.end ());
+      const double bound = 0.25 * edges[edges.size () / 2];
+      double farthest = 0.0;
+      for (const auto& t : polygons) {
+        const Eigen::Vector3d &a = points[t.vertices[0]], &b = points[t.vertices[1]],
+                              &c = points[t.vertices[2]];
+        for (const Eigen::Vector3d& q : {Eigen::Vector3d ((a + b + c) / 3.0), Eigen::Vector3d ((a + b) / 2.0),
+                                         Eigen::Vector3d ((b + c) / 2.0), Eigen::Vector3d ((c + a) / 2.0)})
+          farthest = std::max (farthest, distance (shape, q));
+      }
+      EXPECT_LT (farthest, bound);
     }
 }
 
