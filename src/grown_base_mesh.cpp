@@ -201,7 +201,7 @@ private:
       double sum = 0.0;
       for (const pcl::index_t* w = graph_.begin (v); w != graph_.end (v); ++w)
         sum += (points_[*w] - points_[v]).norm ();
-      const auto degree = static_cast<double> (graph_.end (v) - graph_.begin (v));
+      const auto degree = static_cast<double> (graph_.degree (static_cast<pcl::index_t> (v)));
       if (degree > 0.0 && sum > 0.0) {
         spacing_[v] = sum / degree;
         total += spacing_[v];

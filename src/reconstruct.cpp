@@ -13,7 +13,6 @@
 #include "common/freed_memory.h"
 #include <pcl/surface/meshless/reconstruct.h>
 #include "common/spatial_order.h"
-#include "common/union_find.h"
 
 #include <Eigen/Eigenvalues> // SelfAdjointEigenSolver
 
@@ -337,27 +336,6 @@ Conductor::surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const
   return buildSurfaceGraphs (points_, neighbourhoods.neighbours, graphs);
 }
 
-/** \brief Connected pieces of the graph the directed rows make, and each point's
-  * piece (its smallest point) if asked: the symmetric graph's components, without
-  * building it. */
-std::size_t
-piecesOf (const CsrGraph& rows, std::vector<pcl::index_t>* labels)
-{
-  DisjointSets<pcl::index_t> sets (rows.size ());
-  for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (rows.size ()); ++v)
-    for (const pcl::index_t* w = rows.begin (v); w != rows.end (v); ++w)
-      sets.join (v, *w);
-  std::size_t count = 0;
-  for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (rows.size ()); ++v)
-    count += sets.isRoot (v);
-  if (labels) {
-    labels->resize (rows.size ());
-    for (pcl::index_t v = 0; v < static_cast<pcl::index_t> (rows.size ()); ++v)
-      (*labels)[v] = sets.find (v);
-  }
-  return count;
-}
-
 /** \brief Where the k nearest neighbours fall apart into dense groups of one
   * closed surface (the vertices of a mesh whose long thin triangles join small
   * clusters), 2k, 3k or 4k neighbours, the first that join every piece along the
@@ -372,8 +350,10 @@ Conductor::joinPiecesOfOneSurface ()
   if (!closed_ || options_.radius > 0.0)
     return false;
   clock_.restart ();
-  std::vector<pcl::index_t> pieces;
-  const std::size_t count = piecesOf (neighbourhoods_.neighbours, &pieces);
+  const int threads = static_cast<int> (options_.num_threads);
+  std::vector<pcl::index_t> pieces, joined;
+  const std::size_t count =
+      connectedComponents (symmetricGraph (neighbourhoods_.neighbours, threads), pieces);
   if (count <= 1)
     return false;
   // Clusters of one surface join about all along it, a mesh's vertices around long
@@ -381,7 +361,8 @@ Conductor::joinPiecesOfOneSurface ()
   const double min_joins_along = 0.25;
   for (int factor = 2; factor <= 4 && !cancelled_; ++factor) {
     Neighbourhoods wider = search_ (factor * options_.k);
-    if (!wider.success || wider.num_empty > 0 || piecesOf (wider.neighbours, nullptr) != 1)
+    if (!wider.success || wider.num_empty > 0 ||
+        connectedComponents (symmetricGraph (wider.neighbours, threads), joined) != 1)
       continue;
     if (joinsAlongTheSurface (points_, neighbourhoods_.neighbours, pieces, wider.neighbours) <
         min_joins_along) {

@@ -311,19 +311,24 @@ TEST (ClosedTopology, UserBaseMeshOfGenusOneWithPolygonalFaces)
 
 TEST (ClosedTopology, TwoObjectsAndAnUnclearGenusAreErrorsWithGenusUnknown)
 {
+  Reconstruction reconstruction;
+  reconstruction.setTopology (Reconstruction::Topology::Closed);
+  std::vector<pcl::Vertices> polygons;
+  // The closed topology on `cloud` must fail with no polygons; its report.
+  const auto failsOn = [&] (const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud) {
+    reconstruction.setInputCloud (cloud);
+    reconstruction.reconstruct (polygons);
+    EXPECT_FALSE (reconstruction.getReport ().success);
+    EXPECT_TRUE (polygons.empty ());
+    return reconstruction.getReport ();
+  };
+
   auto two = toCloud (pcl::meshless::sampleShape (SyntheticShape::Sphere, {2000, 1, 0.0, 0.0}));
   for (const auto& p : pcl::meshless::sampleShape (SyntheticShape::Torus, {2000, 2, 0.0, 0.0}))
     two->push_back (pcl::PointXYZ (static_cast<float> (p.x () + 10.0), static_cast<float> (p.y ()),
                                    static_cast<float> (p.z ())));
-  Reconstruction reconstruction;
-  reconstruction.setTopology (Reconstruction::Topology::Closed);
-  reconstruction.setInputCloud (two);
-  std::vector<pcl::Vertices> polygons;
-  reconstruction.reconstruct (polygons);
-  EXPECT_FALSE (reconstruction.getReport ().success);
-  EXPECT_TRUE (polygons.empty ());
-  EXPECT_NE (reconstruction.getReport ().message.find ("disconnected"), std::string::npos)
-      << reconstruction.getReport ().message;
+  const auto apart = failsOn (two);
+  EXPECT_NE (apart.message.find ("disconnected"), std::string::npos) << apart.message;
 
   // 150 points on a long ellipsoid: too few for regions that are discs. The
   // sphere topology's polyhedra close it, and closed mode gives the same.
@@ -337,27 +342,15 @@ TEST (ClosedTopology, TwoObjectsAndAnUnclearGenusAreErrorsWithGenusUnknown)
 
   // 600 points on a knotted tube: no D at k nor 2k, and no sphere either. The genus
   // is unknown, and said so.
-  const auto sparse_knot =
-      toCloud (pcl::meshless::sampleShape (SyntheticShape::KnottedTube, {600, 1, 0.0, 0.0}));
-  reconstruction.setInputCloud (sparse_knot);
-  reconstruction.reconstruct (polygons);
-  EXPECT_FALSE (reconstruction.getReport ().success);
-  EXPECT_TRUE (polygons.empty ());
-  EXPECT_EQ (reconstruction.getReport ().stats.genus, -1);
-  EXPECT_NE (reconstruction.getReport ().message.find ("genus could not be found"),
-             std::string::npos)
-      << reconstruction.getReport ().message;
+  const auto knot = failsOn (
+      toCloud (pcl::meshless::sampleShape (SyntheticShape::KnottedTube, {600, 1, 0.0, 0.0})));
+  EXPECT_EQ (knot.stats.genus, -1);
+  EXPECT_NE (knot.message.find ("genus could not be found"), std::string::npos) << knot.message;
 
   // A torus under noise of 2% of its diagonal: its handle shows only at 2k, where
   // no path fits. A failure, with the genus seen or none, never genus 0.
   const auto noisy =
-      toCloud (pcl::meshless::sampleShape (SyntheticShape::Torus, {3000, 1, 0.02, 0.0}));
-  reconstruction.setInputCloud (noisy);
-  reconstruction.reconstruct (polygons);
-  EXPECT_FALSE (reconstruction.getReport ().success);
-  EXPECT_TRUE (polygons.empty ());
-  EXPECT_TRUE (reconstruction.getReport ().stats.genus == -1 ||
-               reconstruction.getReport ().stats.genus == 1)
-      << reconstruction.getReport ().stats.genus << ": "
-      << reconstruction.getReport ().message;
+      failsOn (toCloud (pcl::meshless::sampleShape (SyntheticShape::Torus, {3000, 1, 0.02, 0.0})));
+  EXPECT_TRUE (noisy.stats.genus == -1 || noisy.stats.genus == 1)
+      << noisy.stats.genus << ": " << noisy.message;
 }
