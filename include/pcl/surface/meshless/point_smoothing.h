@@ -1,0 +1,60 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#pragma once
+
+#include <pcl/surface/meshless/types.h>
+
+/** \file
+  * Points moved onto a surface fitted to their neighbours (moving least squares,
+  * PCL's MLSResult): for noise about as large as the point spacing, where the
+  * neighbours' order around a point, and the cuts between the patches, are no
+  * longer those of a surface.
+  */
+namespace pcl {
+namespace meshless {
+
+/** \brief How far a cloud lies off the surfaces fitted to it. */
+struct PointNoise
+{
+  /** \brief The median over the points of the distance from a point to its
+    * projection, over the median point spacing (mean distance to the six nearest).
+    * Clean samples of smooth surfaces stay near 0.01, creases and thin parts move
+    * few points; Gaussian noise of standard deviation s gives about 0.67 s over the
+    * spacing. */
+  double noise_ratio = 0.0;
+  /** \brief Median and largest distance from a point to its projection. */
+  double median_offset = 0.0;
+  double max_offset = 0.0;
+  double median_spacing = 0.0;
+};
+
+/** \brief Median offset from the fitted surfaces, over the point spacing, above
+  * which PointSmoothing::IfNoisy moves a failed cloud's points: Gaussian noise of
+  * about 0.4 spacings. Clean samples of smooth shapes measure below 0.05, scans and
+  * meshes' vertices mostly below 0.2 (a coarse mesh with long thin triangles more). */
+constexpr double min_noise_ratio = 0.25;
+
+/** \brief The points projected onto the quadratic surfaces fitted to their
+  * neighbourhoods, and how far they moved. */
+struct SmoothedPoints
+{
+  Points3 points;
+  PointNoise noise;
+};
+
+/** \brief Projects every point onto the quadratic MLS surface fitted to it and its
+  * neighbours (Gaussian weights over the farthest neighbour's distance); a point
+  * whose neighbours span no plane keeps its position.
+  * \param[in] points the points
+  * \param[in] neighbours each point's neighbours (wide enough to average the
+  *            noise: a few dozen)
+  * \param[in] num_threads threads (0 = all cores)
+  */
+SmoothedPoints
+projectOntoFittedSurfaces (const Points3& points, const CsrGraph& neighbours,
+                           int num_threads = 0);
+
+} // namespace meshless
+} // namespace pcl

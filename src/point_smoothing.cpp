@@ -1,0 +1,96 @@
+/*
+ * Software License Agreement (BSD License)
+ *  pcl_spherical_meshless - see LICENSE.
+ */
+#include <pcl/surface/meshless/point_smoothing.h>
+
+#include "common/threads.h"
+
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
+#include <pcl/surface/mls.h>
+// MLSResult::computeMLSSurface for PointXYZ; GCC reads PCL's centroid as possibly
+// uninitialized through an SSE load, which it is not.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#include <pcl/surface/impl/mls.hpp>
+#pragma GCC diagnostic pop
+
+#include <algorithm>
+#include <cmath>
+
+namespace pcl {
+namespace meshless {
+
+namespace {
+
+double
+median (std::vector<double> values)
+{
+  if (values.empty ())
+    return 0.0;
+  const auto middle = values.begin () + values.size () / 2;
+  std::nth_element (values.begin (), middle, values.end ());
+  return *middle;
+}
+
+} // namespace
+
+SmoothedPoints
+projectOntoFittedSurfaces (const Points3& points, const CsrGraph& neighbours, int num_threads)
+{
+  const std::size_t n = points.size ();
+  SmoothedPoints result;
+  result.points = points;
+  // PCL's fit reads float points; the pipeline's are centred, so float keeps them.
+  pcl::PointCloud<pcl::PointXYZ> cloud;
+  cloud.resize (n);
+  for (std::size_t i = 0; i < n; ++i)
+    cloud[i].getVector3fMap () = points[i].cast<float> ();
+  std::vector<double> offsets (n, 0.0), spacings (n, 0.0);
+  // The six nearest give the spacing: fewer see the noise pull pairs together.
+  const std::size_t spacing_count = 6;
+#pragma omp parallel num_threads(threadCount (num_threads))
+  {
+    pcl::Indices fit;
+    std::vector<double> distances;
+#pragma omp for schedule(dynamic, 256)
+    for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t> (n); ++ii) {
+      const auto i = static_cast<pcl::index_t> (ii);
+      fit.assign (1, i);
+      distances.clear ();
+      for (const pcl::index_t* w = neighbours.begin (i); w != neighbours.end (i); ++w) {
+        fit.push_back (*w);
+        distances.push_back ((points[*w] - points[i]).norm ());
+      }
+      if (distances.empty ())
+        continue;
+      const std::size_t near = std::min (spacing_count, distances.size ());
+      std::nth_element (distances.begin (), distances.begin () + (near - 1), distances.end ());
+      double sum = 0.0;
+      for (std::size_t j = 0; j < near; ++j)
+        sum += distances[j];
+      spacings[i] = sum / static_cast<double> (near);
+      const double reach = *std::max_element (distances.begin (), distances.end ());
+      pcl::MLSResult surface;
+      surface.computeMLSSurface (cloud, i, fit, reach, 2);
+      if (!surface.valid)
+        continue;
+      const Eigen::Vector3d moved =
+          surface.projectQueryPoint (pcl::MLSResult::SIMPLE).point;
+      if (!moved.allFinite ())
+        continue;
+      result.points[i] = moved;
+      offsets[i] = (moved - points[i]).norm ();
+    }
+  }
+  PointNoise& noise = result.noise;
+  noise.max_offset = offsets.empty () ? 0.0 : *std::max_element (offsets.begin (), offsets.end ());
+  noise.median_offset = median (offsets);
+  noise.median_spacing = median (spacings);
+  noise.noise_ratio = noise.median_spacing > 0.0 ? noise.median_offset / noise.median_spacing : 0.0;
+  return result;
+}
+
+} // namespace meshless
+} // namespace pcl
