@@ -34,7 +34,7 @@ const std::vector<meshless_tools::Flag> kFlags = {
     {"-h", false},        {"--help", false},   {"-generate", true}, {"-k", true},
     {"-radius", true},    {"-weights", true},  {"-topology", true}, {"-optimize", true},
     {"-base", true},      {"-retries", true},  {"-self_intersections", true},
-    {"-threads", true}};
+    {"-threads", true},   {"-smooth", true}};
 
 void
 usage (const char* program)
@@ -61,6 +61,9 @@ usage (const char* program)
       "  -self_intersections fail|keep\n"
       "                       a mesh whose triangles still intersect after the repair:\n"
       "                       an error (default) or written with a warning\n"
+      "  -smooth S            off|auto|always: the mesh through the points moved onto\n"
+      "                       surfaces fitted to their neighbours (auto, the default:\n"
+      "                       only where noise about the point spacing fails the run)\n"
       "  -threads N           worker threads (default 0: all cores)\n",
       program, program);
 }
@@ -73,6 +76,7 @@ namingOptions (std::string message)
       {"setTopology (Topology::Disc)", "-topology disc"},
       {"setTopology (Topology::Closed)", "-topology closed"},
       {"setAllowSelfIntersections (true)", "-self_intersections keep"},
+      {"setPointSmoothing (Off)", "-smooth off"},
       {"setOptimize (false)", "-optimize 0"},
       {"setSearchRadius", "-radius"},
       {"setNumberOfNeighbours", "-k"},
@@ -123,12 +127,16 @@ readChoices (CommandLine& line, Reconstruction& reconstruction)
   const Reconstruction::Topology topologies[] = {Reconstruction::Topology::Sphere,
                                                  Reconstruction::Topology::Disc,
                                                  Reconstruction::Topology::Closed};
-  int weight = -1, topology = -1, optimize = -1, base = -1, intersections = -1;
+  const Reconstruction::PointSmoothing smoothings[] = {Reconstruction::PointSmoothing::Off,
+                                                       Reconstruction::PointSmoothing::IfNoisy,
+                                                       Reconstruction::PointSmoothing::Always};
+  int weight = -1, topology = -1, optimize = -1, base = -1, intersections = -1, smooth = -1;
   if (!line.choose ("-weights", {"uniform", "distance", "shape", "meanvalue"}, weight) ||
       !line.choose ("-topology", {"sphere", "disc", "closed"}, topology) ||
       !line.choose ("-optimize", {"0", "1"}, optimize) ||
       !line.choose ("-base", {"auto", "tetrahedron", "octahedron", "icosahedron"}, base) ||
-      !line.choose ("-self_intersections", {"fail", "keep"}, intersections))
+      !line.choose ("-self_intersections", {"fail", "keep"}, intersections) ||
+      !line.choose ("-smooth", {"off", "auto", "always"}, smooth))
     return false;
   if (weight >= 0)
     reconstruction.setWeightType (weights[weight]);
@@ -140,6 +148,8 @@ readChoices (CommandLine& line, Reconstruction& reconstruction)
     reconstruction.setBasePolyhedron (bases[base]);
   if (intersections >= 0)
     reconstruction.setAllowSelfIntersections (intersections == 1);
+  if (smooth >= 0)
+    reconstruction.setPointSmoothing (smoothings[smooth]);
   return true;
 }
 
@@ -223,6 +233,11 @@ printResult (const Reconstruction& reconstruction, const pcl::PolygonMesh& mesh,
   if (report.num_duplicates > 0 || report.num_non_finite > 0)
     print_info ("input: %zu duplicate point(s) merged, %zu non-finite point(s) skipped\n",
                 report.num_duplicates, report.num_non_finite);
+  if (report.smoothed)
+    print_warn ("%s: the points lie %.2f of their spacing off surfaces fitted to them "
+                "(median): the mesh runs through their projections, moved by up to %g "
+                "(-smooth off refuses instead)\n",
+                kTool, report.noise.noise_ratio, report.noise.max_offset);
   if (report.mesh.self_intersecting_pairs > 0)
     print_warn ("%s: %zu pair(s) of triangles intersect in local folds (noisy or thin "
                 "input); the mesh is %s and oriented all the same\n",

@@ -17,6 +17,7 @@
 #include <Eigen/Eigenvalues> // SelfAdjointEigenSolver
 
 #include <algorithm>
+#include <chrono>
 #include <cstdint>
 #include <cstdio>
 #include <limits>
@@ -138,6 +139,15 @@ public:
   Reconstruction
   run ();
 
+  /** \brief After run (): it failed on the points' geometry, which noise may cause,
+    * rather than on too few points, a cancellation or a handle the sphere topology
+    * refuses. */
+  bool
+  failedOnTheSurface () const
+  {
+    return failed_on_the_surface_;
+  }
+
 private:
   /** \brief The result handed to the caller (empty triangles on failure). */
   Reconstruction
@@ -145,7 +155,7 @@ private:
   {
     if (!result_.report.success)
       result_.triangles.clear ();
-    return {std::move (result_.triangles), std::move (result_.report)};
+    return {std::move (result_.triangles), std::move (result_.report), {}};
   }
 
   bool
@@ -199,6 +209,7 @@ private:
   SpherePipelineOptions first_options_; // the first run's, which the retries vary
   bool cancelled_ = false;              // the user's callback said cancel, anywhere
   bool genus_presumed_ = false; // genus 0 from the polyhedra, no D grown: only if they succeed
+  bool failed_on_the_surface_ = false;
 };
 
 bool
@@ -570,8 +581,13 @@ Conductor::run ()
   const std::string flat = closed_ ? flatness (points_) : "";
   if (!flat.empty ())
     fail (flat);
-  else if (searchNeighbourhoods () && (closed_ ? firstSphereRun () : firstDiscRun ()))
-    finishAndRetry ();
+  else if (searchNeighbourhoods ()) {
+    if (closed_ ? firstSphereRun () : firstDiscRun ())
+      finishAndRetry ();
+    const ReconstructionReport& report = result_.report;
+    failed_on_the_surface_ = !report.success && !cancelled_ &&
+                             !(options_.topology == Topology::Sphere && report.stats.genus > 0);
+  }
   return take ();
 }
 
@@ -640,6 +656,77 @@ checkOptions (const ReconstructionOptions& options)
   return "";
 }
 
+namespace {
+
+/** \brief The runs on the points projected onto surfaces fitted to them, after
+  * `failed` (a failed run on the points themselves; empty for PointSmoothing::Always):
+  * fitted over 4k neighbours, then over 6k where that run fails too. The result is
+  * the first projections' run that succeeds, else `failed` with the noise measured
+  * (or, asked to smooth always, the last run). */
+Reconstruction
+runOnFittedSurfaces (const PreparedPoints& prepared,
+                     const NeighbourSearch& search,
+                     const ReconstructionOptions& options,
+                     Reconstruction failed)
+{
+  const bool always = options.smoothing == PointSmoothing::Always;
+  ReconstructionReport& report = failed.report;
+  Reconstruction second;
+  // A few dozen neighbours average noise about as large as their spacing; where its
+  // larger swings still leave the paths no room, more of them.
+  for (const int factor : {4, 6}) {
+    const auto start = std::chrono::steady_clock::now ();
+    const Neighbourhoods wide = search (factor * options.k);
+    if (!wide.success) {
+      if (always)
+        report.message = wide.message;
+      return failed;
+    }
+    SmoothedPoints smoothed = projectOntoFittedSurfaces (
+        prepared.points, wide.neighbours, static_cast<int> (options.num_threads));
+    const double seconds =
+        std::chrono::duration<double> (std::chrono::steady_clock::now () - start).count ();
+    // The noise is what the first fit measured; the wider one is only another try.
+    if (factor == 4)
+      report.noise = smoothed.noise;
+    char detail[112];
+    std::snprintf (detail, sizeof detail,
+                   "%d neighbours: points %.2f spacings off the fitted surfaces (median)",
+                   factor * options.k, smoothed.noise.noise_ratio);
+    report.stage_seconds.emplace_back ("smoothing", seconds);
+    if (options.progress && !options.progress ({"smoothing", 0.01, seconds, detail})) {
+      report.message = "cancelled by the progress callback";
+      return failed;
+    }
+    if (!always && report.noise.noise_ratio < min_noise_ratio)
+      return failed;
+    PreparedPoints moved = prepared;
+    moved.points = std::move (smoothed.points);
+    second = Conductor (moved, search, options).run ();
+    report.stage_seconds.insert (report.stage_seconds.end (),
+                                 second.report.stage_seconds.begin (),
+                                 second.report.stage_seconds.end ());
+    if (second.report.success) {
+      second.smoothed_points = std::move (moved.points);
+      break;
+    }
+  }
+  if (!second.report.success && !always) {
+    char ratio[32];
+    std::snprintf (ratio, sizeof ratio, "%.2f", report.noise.noise_ratio);
+    report.message += std::string ("; so did the runs on the points moved onto surfaces "
+                                   "fitted to them (they lie ") +
+                      ratio + " point spacings off them in the median)";
+    return failed;
+  }
+  second.report.noise = report.noise;
+  second.report.smoothed = second.report.success;
+  second.report.stage_seconds = std::move (report.stage_seconds);
+  return second;
+}
+
+} // namespace
+
 Reconstruction
 reconstruct (const PreparedPoints& prepared,
              const NeighbourSearch& search,
@@ -649,7 +736,14 @@ reconstruct (const PreparedPoints& prepared,
   result.report.message = checkOptions (options);
   if (!result.report.message.empty ())
     return result;
-  return Conductor (prepared, search, options).run ();
+  if (options.smoothing == PointSmoothing::Always && prepared.points.size () >= 4)
+    return runOnFittedSurfaces (prepared, search, options, std::move (result));
+  Conductor first (prepared, search, options);
+  result = first.run ();
+  if (result.report.success || options.smoothing == PointSmoothing::Off ||
+      !first.failedOnTheSurface ())
+    return result;
+  return runOnFittedSurfaces (prepared, search, options, std::move (result));
 }
 
 } // namespace meshless

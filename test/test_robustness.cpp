@@ -747,6 +747,60 @@ TEST (Robustness, GaussianNoiseOfOnePercentOfTheDiagonal)
   expectMesh (expectContract (shape (SyntheticShape::BumpySphere, 2000, 1, 0.01)));
 }
 
+TEST (Robustness, NoiseAtThePointSpacingClosesThroughFittedSurfaces)
+{
+  // Gaussian noise of 0.7 point spacings: the run on the points finds no room for
+  // its paths; on their projections onto surfaces fitted to their neighbours every
+  // member closes, through positions nearer the exact surface than the points.
+  for (const SyntheticShape s : {SyntheticShape::Sphere, SyntheticShape::BumpySphere})
+    for (const std::uint32_t seed : {1u, 2u, 3u}) {
+      SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (s)) + " seed " +
+                    std::to_string (seed));
+      const auto cloud = shape (s, 5000, seed, 0.014);
+      Reconstruction as_given;
+      as_given.setInputCloud (cloud);
+      as_given.setPointSmoothing (Reconstruction::PointSmoothing::Off);
+      expectFailure (expectContract (as_given, expectedVertices (*cloud)), "no base mesh worked");
+
+      Reconstruction reconstruction;
+      reconstruction.setInputCloud (cloud);
+      expectMesh (expectContract (reconstruction, expectedVertices (*cloud)));
+      const auto& report = reconstruction.getReport ();
+      EXPECT_TRUE (report.smoothed);
+      EXPECT_GT (report.noise.noise_ratio, pcl::meshless::min_noise_ratio);
+      const auto vertices = reconstruction.getVertexCloud ();
+      ASSERT_TRUE (vertices && vertices->size () == cloud->size ());
+      if (s == SyntheticShape::Sphere) {
+        double moved = 0.0, given = 0.0;
+        for (std::size_t i = 0; i < cloud->size (); ++i) {
+          moved += std::abs ((*vertices)[i].getVector3fMap ().norm () - 1.0f);
+          given += std::abs ((*cloud)[i].getVector3fMap ().norm () - 1.0f);
+        }
+        EXPECT_LT (moved, 0.5 * given);
+      }
+    }
+}
+
+TEST (Robustness, CleanCloudsKeepTheirPoints)
+{
+  // Smoothing only where the points' own run fails on noise: a clean cloud's mesh
+  // runs through the points as given, and its noise is not even measured. Asked to
+  // smooth always, it is, and the mesh keeps every invariant.
+  const auto cloud = shape (SyntheticShape::BumpySphere, 3000);
+  Reconstruction reconstruction;
+  reconstruction.setInputCloud (cloud);
+  expectMesh (expectContract (reconstruction, expectedVertices (*cloud)));
+  EXPECT_FALSE (reconstruction.getReport ().smoothed);
+  EXPECT_EQ (reconstruction.getReport ().noise.noise_ratio, 0.0);
+  EXPECT_EQ (reconstruction.getVertexCloud (), cloud);
+
+  reconstruction.setPointSmoothing (Reconstruction::PointSmoothing::Always);
+  expectMesh (expectContract (reconstruction, expectedVertices (*cloud)));
+  EXPECT_TRUE (reconstruction.getReport ().smoothed);
+  EXPECT_LT (reconstruction.getReport ().noise.noise_ratio, 0.05);
+  EXPECT_NE (reconstruction.getVertexCloud (), cloud);
+}
+
 TEST (Robustness, DensityVarying20To1)
 {
   // Keep a point of a dense sphere with probability falling linearly from 1 at
@@ -886,6 +940,7 @@ TEST (Robustness, CommandLineBadInputsExitNonZeroWithOneLine)
   expectCliFailure ("-generate sphere:0 \"" + out + "\"", "empty");
   expectCliFailure ("\"" + line + "\" \"" + out + "\"", "on one line");
   expectCliFailure ("-generate sphere:500 \"" + out + "\" -self_intersections maybe", "fail or keep");
+  expectCliFailure ("-generate sphere:500 \"" + out + "\" -smooth maybe", "-smooth");
   for (const auto& path : {empty, three, nan, identical, garbage, line, out})
     std::filesystem::remove (path);
 }

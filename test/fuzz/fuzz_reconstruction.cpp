@@ -298,9 +298,15 @@ checkSuccess (const FuzzCase& c, const Cloud::Ptr& cloud, const pcl::Indices& in
   const std::set<pcl::index_t> expected = expectedVertices (*cloud, indices);
   if (report.num_points != expected.size ())
     broken ("num_points is not the number of distinct finite points", reconstruction);
+  // The positions the triangles run through: the input's, or their projections
+  // where a noisy cloud was smoothed.
+  const auto positions = reconstruction.getVertexCloud ();
+  if (!positions || positions->size () != cloud->size () ||
+      (!report.smoothed && positions != cloud))
+    broken ("the vertex cloud is not the input cloud or a moved copy of it", reconstruction);
   pcl::meshless::Points3 vertices (cloud->size ());
   for (std::size_t i = 0; i < cloud->size (); ++i)
-    vertices[i] = (*cloud)[i].getVector3fMap ().cast<double> ();
+    vertices[i] = (*positions)[i].getVector3fMap ().cast<double> ();
   std::set<pcl::index_t> used;
   const pcl::meshless::Triangles triangles = trianglesOf (mesh, *cloud, used, reconstruction);
   if (used != expected)

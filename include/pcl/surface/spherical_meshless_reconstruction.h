@@ -90,6 +90,7 @@ public:
   using WeightType = meshless::WeightType;
   using BasePolyhedron = meshless::BasePolyhedron;
   using ProgressCallback = meshless::ProgressCallback;
+  using PointSmoothing = meshless::PointSmoothing;
 
   SphericalMeshlessReconstruction () = default;
   ~SphericalMeshlessReconstruction () override = default;
@@ -266,6 +267,33 @@ public:
     return options_.allow_self_intersections;
   }
 
+  /** \brief Whether the mesh may run through the points moved onto quadratic
+    * surfaces fitted to a few dozen neighbours each (PCL's MLS) instead of the points
+    * themselves. Default IfNoisy: only where the run on the points fails and they lie
+    * more than meshless::min_noise_ratio of their spacing off those surfaces (noise
+    * about as large as the spacing); getReport ().smoothed then says so, with a
+    * PCL_WARN, and the output cloud holds the moved positions (getVertexCloud ()).
+    * Off: always through the points as given. Always: a smoothed mesh of any cloud. */
+  inline void
+  setPointSmoothing (PointSmoothing smoothing)
+  {
+    options_.smoothing = smoothing;
+  }
+  inline PointSmoothing
+  getPointSmoothing () const
+  {
+    return options_.smoothing;
+  }
+
+  /** \brief The points the last reconstruct ()'s triangles run through, indexed as
+    * the input: the input cloud itself, or a copy with the moved points' positions
+    * where getReport ().smoothed (see setPointSmoothing). Null before a run. */
+  inline typename pcl::PointCloud<PointInT>::ConstPtr
+  getVertexCloud () const
+  {
+    return vertex_cloud_;
+  }
+
   /** \brief Worker threads for the stages that run in parallel (neighbour queries,
     * rings, weights, patches, checks, swaps); 0 (default) uses OpenMP's default team,
     * all cores unless OMP_NUM_THREADS says otherwise. On large meshes the output
@@ -343,6 +371,7 @@ private:
 
   meshless::ReconstructionOptions options_;
   SphericalMeshlessReport report_;
+  typename pcl::PointCloud<PointInT>::ConstPtr vertex_cloud_;
 };
 
 } // namespace pcl

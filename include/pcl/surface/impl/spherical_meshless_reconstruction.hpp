@@ -20,6 +20,7 @@ bool
 SphericalMeshlessReconstruction<PointInT>::inputIsUsable ()
 {
   report_ = SphericalMeshlessReport ();
+  vertex_cloud_.reset ();
   // PCL's own indices of all points (fake_indices_) may still be those of an earlier,
   // larger cloud: initCompute renews them; only the user's are checked.
   const bool user_indices = indices_ && !this->fake_indices_;
@@ -88,6 +89,8 @@ SphericalMeshlessReconstruction<PointInT>::performReconstruction (pcl::PolygonMe
     output.cloud.width = output.cloud.height = 0;
     output.cloud.data.clear ();
   }
+  else if (report_.smoothed)
+    pcl::toPCLPointCloud2 (*vertex_cloud_, output.cloud);
 }
 
 template <typename PointInT>
@@ -106,6 +109,7 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
   // (meshless::reconstruct), compiled once.
   report_ = SphericalMeshlessReport ();
   polygons.clear ();
+  vertex_cloud_ = input_;
   report_.message = meshless::checkOptions (options_);
   if (!report_.message.empty ()) {
     PCL_ERROR ("[pcl::%s::reconstruct] %s\n", getClassName ().c_str (), report_.message.c_str ());
@@ -152,6 +156,18 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
               "(noisy or thin input); the mesh is %s and oriented all the same\n",
               getClassName ().c_str (), report_.mesh.self_intersecting_pairs,
               options_.topology != Topology::Disc ? "closed" : "manifold");
+  if (report_.smoothed) {
+    auto moved = pcl::make_shared<pcl::PointCloud<PointInT>> (*input_);
+    for (std::size_t i = 0; i < result.smoothed_points.size (); ++i)
+      (*moved)[prepared.cloud_indices[i]].getVector3fMap () =
+          (result.smoothed_points[i] + prepared.centroid).template cast<float> ();
+    vertex_cloud_ = moved;
+    PCL_WARN ("[pcl::%s::reconstruct] the points lie %.2f of their spacing off the surfaces "
+              "fitted to them (median): the mesh runs through their projections onto those "
+              "surfaces, moved by up to %g (getVertexCloud; setPointSmoothing (Off) to "
+              "refuse instead)\n",
+              getClassName ().c_str (), report_.noise.noise_ratio, report_.noise.max_offset);
+  }
   // Output triangles refer to the input's indices.
   polygons.resize (result.triangles.size ());
   for (std::size_t t = 0; t < result.triangles.size (); ++t) {

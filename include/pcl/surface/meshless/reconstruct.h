@@ -10,6 +10,7 @@
 #include <pcl/surface/meshless/fold_repair.h>
 #include <pcl/surface/meshless/mesh_checks.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/meshless/point_smoothing.h>
 #include <pcl/surface/meshless/sphere_pipeline.h>
 #include <pcl/surface/meshless/weights.h>
 
@@ -31,6 +32,20 @@ enum class Topology
   Sphere, ///< closed, genus 0 (default); a cloud with handles is refused
   Disc,   ///< open, one outer boundary (holes kept open where possible)
   Closed  ///< closed, of the genus found from the cloud (ReconstructionReport::stats.genus)
+};
+
+/** \brief Whether the mesh may run through the points moved onto surfaces fitted to
+  * their neighbours (projectOntoFittedSurfaces) instead of the points themselves. */
+enum class PointSmoothing
+{
+  /** The points as given: a cloud whose noise is about its point spacing may fail. */
+  Off,
+  /** Default: where the run on the points fails and they lie, in the median, more
+    * than min_noise_ratio of their spacing off the surfaces fitted to them, the run
+    * is repeated on their projections (ReconstructionReport::smoothed says so). */
+  IfNoisy,
+  /** Every run on the projections: a smoothed mesh of any cloud. */
+  Always
 };
 
 /** \brief What a user chooses; the pipeline's internal settings are derived from it.
@@ -55,6 +70,7 @@ struct ReconstructionOptions
   int base_retries = 2;
   bool check_self_intersections = true;
   bool allow_self_intersections = false;
+  PointSmoothing smoothing = PointSmoothing::IfNoisy;
   /** \brief Worker threads; 0 = OpenMP's default team (all cores unless
     * OMP_NUM_THREADS says otherwise). */
   unsigned int num_threads = 0;
@@ -119,6 +135,12 @@ struct ReconstructionReport
   std::size_t distant_intersecting_pairs = 0;
   /** \brief The check of the output mesh (valid when the pipeline produced one). */
   MeshReport mesh;
+  /** \brief How far the points lie off the surfaces fitted to them: measured where
+    * PointSmoothing asked for it (after a failed run, or always), else zero. */
+  PointNoise noise;
+  /** \brief The mesh runs through the points' projections onto those surfaces
+    * (Reconstruction::smoothed_points), not through the points as given. */
+  bool smoothed = false;
 };
 
 /** \brief Share of area facing against the cloud's normals above which a
@@ -167,6 +189,9 @@ struct Reconstruction
 {
   Triangles triangles;
   ReconstructionReport report;
+  /** \brief Where report.smoothed: the positions of the prepared points the triangles
+    * run through, centred like PreparedPoints::points; else empty. */
+  Points3 smoothed_points;
 };
 
 /** \brief The closed (or disc) triangulation through the prepared points: the
