@@ -309,3 +309,36 @@ TEST (SyntheticClouds, ClustersFallApartAtTwelveNeighbours)
     EXPECT_GT (pieces, 3200 / size / 2) << "cluster size " << size;
   }
 }
+
+TEST (SyntheticClouds, LatticesAreSquareGridsAndHolesAreEmpty)
+{
+  // On a lattice every point's nearest neighbour lies one step away, four of them
+  // inside the outline; each further hole drops more points.
+  for (const SyntheticShape shape : {SyntheticShape::Disc, SyntheticShape::HeightField}) {
+    SyntheticCloudOptions options{2000, 3, 0.0};
+    options.lattice = true;
+    const Points3 grid = sampleShape (shape, options);
+    EXPECT_NEAR (static_cast<double> (grid.size ()), 2000.0, 100.0);
+    const double step = std::sqrt (3.141592653589793 / 2000.0);
+    const CsrGraph near = meshless_test::bruteForceKnn (grid, 4);
+    std::size_t four_at_one_step = 0;
+    for (std::size_t v = 0; v < grid.size (); ++v) {
+      std::size_t at_step = 0;
+      for (const pcl::index_t* w = near.begin (v); w != near.end (v); ++w) {
+        const Eigen::Vector2d d = (grid[*w] - grid[v]).head<2> ();
+        at_step += std::abs (d.norm () - step) < 1e-9 ? 1 : 0;
+      }
+      EXPECT_GE (at_step, 1u) << "point " << v;
+      four_at_one_step += at_step == 4 ? 1 : 0;
+    }
+    EXPECT_GT (four_at_one_step, grid.size () * 8 / 10);
+
+    std::size_t previous = grid.size ();
+    for (const std::size_t holes : {1u, 3u, 5u}) {
+      options.holes = holes;
+      const Points3 holed = sampleShape (shape, options);
+      EXPECT_LT (holed.size (), previous) << holes << " holes";
+      previous = holed.size ();
+    }
+  }
+}

@@ -480,6 +480,27 @@ sampleInClusters (SyntheticShape shape, std::size_t n, std::size_t size, std::mt
   return points;
 }
 
+/** The open shapes' square grid over the unit disc, turned and shifted at random. */
+Points3
+sampleOnLattice (SyntheticShape shape, std::size_t n, std::mt19937& random)
+{
+  std::uniform_real_distribution<double> unit (0.0, 1.0);
+  const double step = std::sqrt (pi / static_cast<double> (std::max<std::size_t> (n, 1)));
+  const double turn = 0.5 * pi * unit (random);
+  const Eigen::Vector2d shift (step * unit (random), step * unit (random));
+  const Eigen::Rotation2Dd rotation (turn);
+  const int reach = static_cast<int> (std::ceil (1.5 / step));
+  Points3 points;
+  for (int i = -reach; i <= reach; ++i)
+    for (int j = -reach; j <= reach; ++j) {
+      const Eigen::Vector2d xy = rotation * (Eigen::Vector2d (i * step, j * step) + shift);
+      if (xy.norm () <= 1.0)
+        points.emplace_back (xy.x (), xy.y (),
+                             shape == SyntheticShape::Disc ? 0.0 : heightField (xy.x (), xy.y ()));
+    }
+  return points;
+}
+
 } // namespace
 
 int
@@ -509,11 +530,34 @@ Points3
 sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
 {
   std::mt19937 random (options.seed);
+  const bool open = shape == SyntheticShape::Disc || shape == SyntheticShape::HeightField;
   Points3 points =
       options.uneven > 1.0 ? sampleUnevenly (shape, options.num_points, options.uneven, random)
       : options.cluster_size > 1
           ? sampleInClusters (shape, options.num_points, options.cluster_size, random)
-          : sampleUniformly (shape, options.num_points, random);
+      : options.lattice && open ? sampleOnLattice (shape, options.num_points, random)
+                                : sampleUniformly (shape, options.num_points, random);
+  if (open && options.holes > 0) {
+    const double radius = 0.15;
+    std::uniform_real_distribution<double> unit (0.0, 1.0);
+    std::vector<Eigen::Vector2d> centres;
+    for (int tries = 0; centres.size () < std::min<std::size_t> (options.holes, 5) && tries < 10000;
+         ++tries) {
+      const double r = 0.65 * std::sqrt (unit (random)), phi = 2.0 * pi * unit (random);
+      const Eigen::Vector2d c (r * std::cos (phi), r * std::sin (phi));
+      if (std::all_of (centres.begin (), centres.end (),
+                       [&] (const Eigen::Vector2d& o) { return (o - c).norm () >= 3.0 * radius; }))
+        centres.push_back (c);
+    }
+    points.erase (std::remove_if (points.begin (), points.end (),
+                                  [&] (const Eigen::Vector3d& p) {
+                                    return std::any_of (centres.begin (), centres.end (),
+                                                        [&] (const Eigen::Vector2d& c) {
+                                                          return (p.head<2> () - c).norm () < radius;
+                                                        });
+                                  }),
+                  points.end ());
+  }
   if (options.noise > 0.0 && !points.empty ()) {
     const BoundingBox box = boundingBox (points);
     std::normal_distribution<double> gauss (0.0, options.noise * (box.hi - box.lo).norm ());

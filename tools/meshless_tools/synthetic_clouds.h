@@ -64,6 +64,17 @@ struct SyntheticCloudOptions
     * count is rounded down to whole clusters. Quadratic in the points: for clouds
     * of some thousands. 0: no clusters. Ignored with `uneven`. */
   std::size_t cluster_size = 0;
+  /** \brief The open shapes (Disc, HeightField) on a regular square grid, turned
+    * and shifted by the seed, its spacing giving about num_points inside the unit
+    * disc: ties in every neighbour order, and a staircase outline of collinear
+    * points (like a depth image's or a pixel mask's). Ignored for the closed shapes
+    * and with `uneven` or `cluster_size`. Default false. */
+  bool lattice = false;
+  /** \brief Round holes cut out of the open shapes (Disc, HeightField), up to 5:
+    * radius 0.15 of the unit disc, centres placed by the seed inside radius 0.65
+    * and at least three radii apart; the points inside are dropped, so fewer than
+    * num_points remain. Ignored for the closed shapes. Default 0. */
+  std::size_t holes = 0;
 };
 
 /** \brief Points sampled on a shape, close to uniformly per area (a jittered
