@@ -106,6 +106,9 @@ struct MethodResult
   std::optional<double> memory_mb;
   pcl::meshless::MeshReport report;
   std::optional<pcl::meshless::MeshDistanceReport> distance;
+  /** The positions the triangles run through, where not the input's (a noisy
+    * cloud's projections). */
+  pcl::PointCloud<pcl::PointXYZ>::ConstPtr positions;
 };
 
 void
@@ -239,6 +242,12 @@ runMethods (const Cloud::Ptr& cloud, const pcl::search::KdTree<pcl::PointXYZ>::P
   }
   spherical.seconds = timer.toc () / 1000.0;
   spherical.memory_mb = memory.megabytes ();
+  if (reconstruction.getReport ().smoothed) {
+    spherical.positions = reconstruction.getVertexCloud ();
+    pcl::console::print_info ("spherical meshless: through the points projected onto "
+                              "surfaces fitted to them (noise %.2f spacings)\n",
+                              reconstruction.getReport ().noise.noise_ratio);
+  }
   if (!reconstruction.getReport ().success)
     pcl::console::print_info ("spherical meshless failed: %s\n",
                               reconstruction.getReport ().message.c_str ());
@@ -311,12 +320,13 @@ run (int argc, char** argv)
   std::fflush (stdout);
   std::vector<MethodResult> results = runMethods (cloud, tree, parameters, options.topology);
 
-  const pcl::meshless::Points3 vertices = toPoints (*cloud);
   const bool with_reference = !options.reference_path.empty ();
   for (MethodResult& r : results) {
     // Both meshes are written and rendered over the plain points (greedy projection
     // keeps the normals in its cloud, which would shade by their arbitrary signs).
-    pcl::toPCLPointCloud2 (*cloud, r.mesh.cloud);
+    const Cloud& points = r.positions ? *r.positions : *cloud;
+    const pcl::meshless::Points3 vertices = toPoints (points);
+    pcl::toPCLPointCloud2 (points, r.mesh.cloud);
     const pcl::meshless::Triangles triangles = toTriangles (r.mesh);
     r.report = pcl::meshless::checkMesh (vertices, triangles);
     if (!with_reference)

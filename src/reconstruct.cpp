@@ -9,7 +9,9 @@
 #include "handles.h"
 #include <pcl/surface/meshless/grown_base_mesh.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
+#include <pcl/surface/meshless/neighbourhood_search.h>
 #include <pcl/surface/meshless/surface_graphs.h>
+#include <pcl/search/kdtree.h>
 #include "common/freed_memory.h"
 #include <pcl/surface/meshless/reconstruct.h>
 #include "common/spatial_order.h"
@@ -21,6 +23,7 @@
 #include <cstdint>
 #include <cstdio>
 #include <limits>
+#include <numeric>
 
 namespace pcl {
 namespace meshless {
@@ -658,6 +661,28 @@ checkOptions (const ReconstructionOptions& options)
 
 namespace {
 
+/** \brief Neighbourhoods among `points` through PCL's kd-tree: the noisy points'
+  * nearest neighbours are not their projections' nearest. */
+NeighbourSearch
+searchAmong (const Points3& points, const ReconstructionOptions& options)
+{
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  cloud->resize (points.size ());
+  for (std::size_t i = 0; i < points.size (); ++i)
+    (*cloud)[i].getVector3fMap () = points[i].cast<float> ();
+  auto tree = pcl::make_shared<pcl::search::KdTree<pcl::PointXYZ>> ();
+  tree->setInputCloud (cloud);
+  pcl::Indices all (points.size ());
+  std::iota (all.begin (), all.end (), 0);
+  return [tree, all = std::move (all), &options] (int k) {
+    NeighbourhoodOptions neighbourhood;
+    neighbourhood.k = k;
+    neighbourhood.radius = options.radius;
+    neighbourhood.num_threads = static_cast<int> (options.num_threads);
+    return searchNeighbourhoods (*tree, all, neighbourhood);
+  };
+}
+
 /** \brief The runs on the points projected onto surfaces fitted to them, after
   * `failed` (a failed run on the points themselves; empty for PointSmoothing::Always):
   * fitted over 4k neighbours, then over 6k where that run fails too. The result is
@@ -702,7 +727,8 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
       return failed;
     PreparedPoints moved = prepared;
     moved.points = std::move (smoothed.points);
-    second = Conductor (moved, search, options).run ();
+    const NeighbourSearch moved_search = searchAmong (moved.points, options);
+    second = Conductor (moved, moved_search, options).run ();
     report.stage_seconds.insert (report.stage_seconds.end (),
                                  second.report.stage_seconds.begin (),
                                  second.report.stage_seconds.end ());
@@ -740,8 +766,10 @@ reconstruct (const PreparedPoints& prepared,
     return runOnFittedSurfaces (prepared, search, options, std::move (result));
   Conductor first (prepared, search, options);
   result = first.run ();
-  if (result.report.success || options.smoothing == PointSmoothing::Off ||
-      !first.failedOnTheSurface ())
+  // Not for open surfaces unless asked: the walk around a noisy hole's rim can fail
+  // on the projections too, and the hole would be closed over.
+  if (result.report.success || options.smoothing != PointSmoothing::IfNoisy ||
+      options.topology == Topology::Disc || !first.failedOnTheSurface ())
     return result;
   return runOnFittedSurfaces (prepared, search, options, std::move (result));
 }

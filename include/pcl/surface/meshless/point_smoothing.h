@@ -32,9 +32,10 @@ struct PointNoise
 
 /** \brief Median offset from the fitted surfaces, over the point spacing, above
   * which PointSmoothing::IfNoisy moves a failed cloud's points: Gaussian noise of
-  * about 0.4 spacings. Clean samples of smooth shapes measure below 0.05, scans and
-  * meshes' vertices mostly below 0.2 (a coarse mesh with long thin triangles more). */
-constexpr double min_noise_ratio = 0.25;
+  * about 0.2 spacings. Clean samples of smooth shapes measure below 0.05, the
+  * vertices of fine meshes about 0.1 (parts a few points around), coarse ones and
+  * depth-camera scans 0.15 to 0.4. */
+constexpr double min_noise_ratio = 0.15;
 
 /** \brief The points projected onto the quadratic surfaces fitted to their
   * neighbourhoods, and how far they moved. */
