@@ -76,7 +76,6 @@ namingOptions (std::string message)
       {"setTopology (Topology::Disc)", "-topology disc"},
       {"setTopology (Topology::Closed)", "-topology closed"},
       {"setAllowSelfIntersections (true)", "-self_intersections keep"},
-      {"setPointSmoothing (Off)", "-smooth off"},
       {"setOptimize (false)", "-optimize 0"},
       {"setSearchRadius", "-radius"},
       {"setNumberOfNeighbours", "-k"},

@@ -56,7 +56,7 @@ withSteppedOverPoints (const Points3& points,
                        const std::vector<pcl::index_t>& loop,
                        std::vector<char>& taken)
 {
-  const double max_offset = 0.1; // of the edge's length: within about 6 degrees
+  const double max_offset = 0.1; // of the edge's length
   std::vector<pcl::index_t> result;
   result.reserve (loop.size ());
   std::vector<std::pair<pcl::index_t, pcl::index_t>> edges; // to look at, last first
@@ -208,13 +208,20 @@ findBoundaryLoops (const Points3& points,
   // gap of the sample: as the outer loop it would fold the whole map. An outer loop
   // is a gap's if it is neither wide nor long (a boundary is some square root of
   // the point count long, a gap a few points).
-  if (!result.loops.empty () && !wideEnoughForAHole (points, result.loops.front (), 2.0) &&
-      static_cast<double> (result.loops.front ().size ()) < 0.5 * std::sqrt (static_cast<double> (n)))
+  const double min_outline_width = 2.0; // loop edges, as for holes but surer
+  if (!result.loops.empty () &&
+      !wideEnoughForAHole (points, result.loops.front (), min_outline_width) &&
+      static_cast<double> (result.loops.front ().size ()) < 0.5 * std::sqrt (static_cast<double> (n))) {
+    result.message = "the outline is too ragged to follow: the longest loop found (" +
+                     std::to_string (result.loops.front ().size ()) +
+                     " points) is a gap of the sample, not its boundary (noise along the "
+                     "outline: smooth the points first; or too few neighbours)";
     result.loops.clear ();
+    return result;
+  }
   // An inner loop is a hole only if it is wider than the gaps of the sample itself:
   // jittered or noisy samples leave gaps a few points around, as wide as a scan's
-  // small dropouts. Narrower loops are closed over. Gaps of noisy samples measured
-  // up to 1.4 edges, holes 3.8 spacings wide 1.5 and more.
+  // small dropouts. Narrower loops are closed over (measured: doc/design.md).
   const double min_hole_radius = 1.5;
   if (result.loops.size () > 1)
     result.loops.erase (std::remove_if (result.loops.begin () + 1, result.loops.end (),

@@ -11,10 +11,14 @@
 #include <pcl/surface/mls.h>
 // MLSResult::computeMLSSurface for PointXYZ; GCC reads PCL's centroid as possibly
 // uninitialized through an SSE load, which it is not.
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic push
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#endif
 #include <pcl/surface/impl/mls.hpp>
+#if defined(__GNUC__) && !defined(__clang__)
 #pragma GCC diagnostic pop
+#endif
 
 #include <algorithm>
 #include <cmath>
@@ -48,8 +52,9 @@ projectOntoFittedSurfaces (const Points3& points, const CsrGraph& neighbours, in
   for (std::size_t i = 0; i < n; ++i)
     cloud[i].getVector3fMap () = points[i].cast<float> ();
   std::vector<double> offsets (n, 0.0), spacings (n, 0.0);
-  // The six nearest give the spacing: fewer see the noise pull pairs together.
-  const std::size_t spacing_count = 6;
+  // The six nearest give the spacing: fewer see the noise pull pairs together. A
+  // quadratic has six coefficients: with fewer points PCL leaves them unset.
+  const std::size_t spacing_count = 6, min_fit = 6;
 #pragma omp parallel num_threads(threadCount (num_threads))
   {
     pcl::Indices fit;
@@ -65,20 +70,23 @@ projectOntoFittedSurfaces (const Points3& points, const CsrGraph& neighbours, in
       }
       if (distances.empty ())
         continue;
-      const std::size_t near = std::min (spacing_count, distances.size ());
-      std::nth_element (distances.begin (), distances.begin () + (near - 1), distances.end ());
+      const std::size_t nearest = std::min (spacing_count, distances.size ());
+      std::nth_element (distances.begin (), distances.begin () + (nearest - 1), distances.end ());
       double sum = 0.0;
-      for (std::size_t j = 0; j < near; ++j)
+      for (std::size_t j = 0; j < nearest; ++j)
         sum += distances[j];
-      spacings[i] = sum / static_cast<double> (near);
+      spacings[i] = sum / static_cast<double> (nearest);
+      if (fit.size () < min_fit)
+        continue;
       const double reach = *std::max_element (distances.begin (), distances.end ());
       pcl::MLSResult surface;
       surface.computeMLSSurface (cloud, i, fit, reach, 2);
       if (!surface.valid)
         continue;
       const Eigen::Vector3d moved =
-          surface.projectQueryPoint (pcl::MLSResult::SIMPLE).point;
-      if (!moved.allFinite ())
+          surface.projectQueryPoint (pcl::MLSResult::SIMPLE, static_cast<int> (min_fit)).point;
+      // A fit that throws a point beyond its own neighbours is no surface of theirs.
+      if (!moved.allFinite () || !((moved - points[i]).norm () <= reach))
         continue;
       result.points[i] = moved;
       offsets[i] = (moved - points[i]).norm ();

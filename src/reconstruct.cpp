@@ -151,6 +151,13 @@ public:
     return failed_on_the_surface_;
   }
 
+  /** \brief After run (): the progress callback said cancel. */
+  bool
+  cancelled () const
+  {
+    return cancelled_;
+  }
+
 private:
   /** \brief The result handed to the caller (empty triangles on failure). */
   Reconstruction
@@ -696,42 +703,54 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
 {
   const bool always = options.smoothing == PointSmoothing::Always;
   ReconstructionReport& report = failed.report;
+  report.num_points = prepared.points.size ();
+  report.num_duplicates = prepared.num_duplicates;
   Reconstruction second;
+  PointNoise first_fit; // what decides whether the cloud is noisy
   // A few dozen neighbours average noise about as large as their spacing; where its
   // larger swings still leave the paths no room, more of them.
   for (const int factor : {4, 6}) {
     const auto start = std::chrono::steady_clock::now ();
-    const Neighbourhoods wide = search (factor * options.k);
-    if (!wide.success) {
-      if (always)
-        report.message = wide.message;
-      return failed;
-    }
-    SmoothedPoints smoothed = projectOntoFittedSurfaces (
-        prepared.points, wide.neighbours, static_cast<int> (options.num_threads));
+    PreparedPoints moved = prepared;
+    {
+      const Neighbourhoods wide = search (factor * options.k);
+      if (!wide.success && factor == 4) {
+        if (always)
+          report.message = wide.message;
+        return failed;
+      }
+      if (!wide.success)
+        break; // the run on the first projections failed: said below
+      SmoothedPoints smoothed = projectOntoFittedSurfaces (
+          prepared.points, wide.neighbours, static_cast<int> (options.num_threads));
+      moved.points = std::move (smoothed.points);
+      report.noise = smoothed.noise;
+      if (factor == 4)
+        first_fit = smoothed.noise;
+    } // the wide neighbourhoods go before the run
     const double seconds =
         std::chrono::duration<double> (std::chrono::steady_clock::now () - start).count ();
-    // The noise is what the first fit measured; the wider one is only another try.
-    if (factor == 4)
-      report.noise = smoothed.noise;
     char detail[112];
     std::snprintf (detail, sizeof detail,
                    "%d neighbours: points %.2f spacings off the fitted surfaces (median)",
-                   factor * options.k, smoothed.noise.noise_ratio);
+                   factor * options.k, report.noise.noise_ratio);
     report.stage_seconds.emplace_back ("smoothing", seconds);
     if (options.progress && !options.progress ({"smoothing", 0.01, seconds, detail})) {
       report.message = "cancelled by the progress callback";
       return failed;
     }
-    if (!always && report.noise.noise_ratio < min_noise_ratio)
+    if (!always && first_fit.noise_ratio < min_noise_ratio)
       return failed;
-    PreparedPoints moved = prepared;
-    moved.points = std::move (smoothed.points);
     const NeighbourSearch moved_search = searchAmong (moved.points, options);
-    second = Conductor (moved, moved_search, options).run ();
+    Conductor conductor (moved, moved_search, options);
+    second = conductor.run ();
     report.stage_seconds.insert (report.stage_seconds.end (),
                                  second.report.stage_seconds.begin (),
                                  second.report.stage_seconds.end ());
+    if (conductor.cancelled ()) {
+      report.message = "cancelled by the progress callback";
+      return failed;
+    }
     if (second.report.success) {
       second.smoothed_points = std::move (moved.points);
       break;
@@ -739,13 +758,13 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
   }
   if (!second.report.success && !always) {
     char ratio[32];
-    std::snprintf (ratio, sizeof ratio, "%.2f", report.noise.noise_ratio);
+    std::snprintf (ratio, sizeof ratio, "%.2f", first_fit.noise_ratio);
     report.message += std::string ("; so did the runs on the points moved onto surfaces "
                                    "fitted to them (they lie ") +
                       ratio + " point spacings off them in the median)";
     return failed;
   }
-  second.report.noise = report.noise;
+  second.report.noise = report.noise; // the fit the mesh runs through
   second.report.smoothed = second.report.success;
   second.report.stage_seconds = std::move (report.stage_seconds);
   return second;
@@ -764,12 +783,16 @@ reconstruct (const PreparedPoints& prepared,
     return result;
   if (options.smoothing == PointSmoothing::Always && prepared.points.size () >= 4)
     return runOnFittedSurfaces (prepared, search, options, std::move (result));
-  Conductor first (prepared, search, options);
-  result = first.run ();
+  bool failed_on_the_surface = false;
+  {
+    Conductor first (prepared, search, options);
+    result = first.run ();
+    failed_on_the_surface = first.failedOnTheSurface ();
+  } // its neighbourhoods and finisher go before another run
   // Not for open surfaces unless asked: the walk around a noisy hole's rim can fail
   // on the projections too, and the hole would be closed over.
   if (result.report.success || options.smoothing != PointSmoothing::IfNoisy ||
-      options.topology == Topology::Disc || !first.failedOnTheSurface ())
+      options.topology == Topology::Disc || !failed_on_the_surface)
     return result;
   return runOnFittedSurfaces (prepared, search, options, std::move (result));
 }

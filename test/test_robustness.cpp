@@ -801,6 +801,28 @@ TEST (Robustness, CleanCloudsKeepTheirPoints)
   EXPECT_NE (reconstruction.getVertexCloud (), cloud);
 }
 
+TEST (Robustness, SmoothingWithFewNeighboursKeepsTheContract)
+{
+  // A quadratic needs six points: a point with fewer neighbours keeps its position
+  // (PCL's fit would leave its coefficients unset). Four and five points, and a
+  // radius that leaves some points a handful of neighbours, asked to smooth always:
+  // the contract holds, success or a stated failure.
+  for (const std::size_t n : {4u, 5u}) {
+    SCOPED_TRACE (std::to_string (n) + " points");
+    const auto cloud = shape (SyntheticShape::Sphere, n);
+    Reconstruction reconstruction;
+    reconstruction.setInputCloud (cloud);
+    reconstruction.setPointSmoothing (Reconstruction::PointSmoothing::Always);
+    expectContract (reconstruction, expectedVertices (*cloud));
+  }
+  const auto sparse = shape (SyntheticShape::BumpySphere, 400);
+  Reconstruction reconstruction;
+  reconstruction.setInputCloud (sparse);
+  reconstruction.setSearchRadius (0.2);
+  reconstruction.setPointSmoothing (Reconstruction::PointSmoothing::Always);
+  expectContract (reconstruction, expectedVertices (*sparse));
+}
+
 TEST (Robustness, DensityVarying20To1)
 {
   // Keep a point of a dense sphere with probability falling linearly from 1 at

@@ -310,7 +310,7 @@ TEST (SyntheticClouds, ClustersFallApartAtTwelveNeighbours)
   }
 }
 
-TEST (SyntheticClouds, LatticesAreSquareGridsAndHolesAreEmpty)
+TEST (SyntheticClouds, LatticesAreSquareGridsAndHolesDropPoints)
 {
   // On a lattice every point's nearest neighbour lies one step away, four of them
   // inside the outline; each further hole drops more points.

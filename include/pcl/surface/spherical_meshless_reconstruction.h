@@ -53,6 +53,13 @@ using SphericalMeshlessReport = meshless::ReconstructionReport;
   * Exact duplicate points are merged (the first one is used; the others remain in
   * the output cloud as unused vertices). Non-finite points are skipped.
   *
+  * Noise about as large as the point spacing can fail every base mesh. In the
+  * closed topologies the class then measures it and, where it is that large, runs
+  * again on the points projected onto quadratic surfaces fitted to their
+  * neighbours (setPointSmoothing): the mesh then runs through those projections,
+  * one per point with the point's index, written into the output cloud and
+  * getVertexCloud (), and getReport ().smoothed says so.
+  *
   * With setTopology (Topology::Disc) the class reconstructs an open surface (a
   * partial scan, a face, terrain) instead: one boundary loop is found from the
   * points' Delaunay rings, mapped to a circle, and the whole cloud is one patch.
@@ -273,7 +280,9 @@ public:
     * more than meshless::min_noise_ratio of their spacing off those surfaces (noise
     * about as large as the spacing); getReport ().smoothed then says so, with a
     * PCL_WARN, and the output cloud holds the moved positions (getVertexCloud ()).
-    * Off: always through the points as given. Always: a smoothed mesh of any cloud. */
+    * Closed topologies only: in disc mode a noisy hole's rim missed on the
+    * projections would close the hole over. Off: always through the points as
+    * given. Always: a smoothed mesh of any cloud, disc mode too. */
   inline void
   setPointSmoothing (PointSmoothing smoothing)
   {
@@ -333,7 +342,9 @@ public:
   void
   reconstruct (pcl::PolygonMesh& output) override;
 
-  /** \brief Reconstruct the triangles only, as indices into the input cloud. */
+  /** \brief Reconstruct the triangles only, as indices into the input cloud; where
+    * getReport ().smoothed they run through getVertexCloud ()'s positions, not the
+    * input's. */
   void
   reconstruct (std::vector<pcl::Vertices>& polygons) override;
 

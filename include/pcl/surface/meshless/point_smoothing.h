@@ -20,9 +20,8 @@ struct PointNoise
 {
   /** \brief The median over the points of the distance from a point to its
     * projection, over the median point spacing (mean distance to the six nearest).
-    * Clean samples of smooth surfaces stay near 0.01, creases and thin parts move
-    * few points; Gaussian noise of standard deviation s gives about 0.67 s over the
-    * spacing. */
+    * Clean samples of smooth surfaces measure near 0; Gaussian noise of standard
+    * deviation s about 0.67 s over the spacing. Measurements: doc/design.md. */
   double noise_ratio = 0.0;
   /** \brief Median and largest distance from a point to its projection. */
   double median_offset = 0.0;
@@ -32,9 +31,9 @@ struct PointNoise
 
 /** \brief Median offset from the fitted surfaces, over the point spacing, above
   * which PointSmoothing::IfNoisy moves a failed cloud's points: Gaussian noise of
-  * about 0.2 spacings. Clean samples of smooth shapes measure below 0.05, the
-  * vertices of fine meshes about 0.1 (parts a few points around), coarse ones and
-  * depth-camera scans 0.15 to 0.4. */
+  * about a fifth of the spacing. Coarse meshes' vertices and depth-camera scans can
+  * measure above it too (doc/design.md); they are moved only where their own run
+  * fails. */
 constexpr double min_noise_ratio = 0.15;
 
 /** \brief The points projected onto the quadratic surfaces fitted to their
@@ -46,8 +45,9 @@ struct SmoothedPoints
 };
 
 /** \brief Projects every point onto the quadratic MLS surface fitted to it and its
-  * neighbours (Gaussian weights over the farthest neighbour's distance); a point
-  * whose neighbours span no plane keeps its position.
+  * neighbours (Gaussian weights over the farthest neighbour's distance). A point
+  * keeps its position where fewer than six points fit, the fit fails, or its
+  * projection would lie farther than its farthest neighbour.
   * \param[in] points the points
   * \param[in] neighbours each point's neighbours (wide enough to average the
   *            noise: a few dozen)

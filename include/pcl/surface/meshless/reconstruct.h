@@ -40,11 +40,14 @@ enum class PointSmoothing
 {
   /** The points as given: a cloud whose noise is about its point spacing may fail. */
   Off,
-  /** Default: where the run on the points fails and they lie, in the median, more
-    * than min_noise_ratio of their spacing off the surfaces fitted to them, the run
-    * is repeated on their projections (ReconstructionReport::smoothed says so). */
+  /** Default: in the closed topologies, where the run on the points fails (not on a
+    * handle the sphere topology refuses) and they lie, in the median, more than
+    * min_noise_ratio of their spacing off the surfaces fitted to them, the run is
+    * repeated on their projections (ReconstructionReport::smoothed says so). Not in
+    * disc mode: an open surface's holes are not checked, and a noisy hole's rim
+    * missed on the projections would close it over. */
   IfNoisy,
-  /** Every run on the projections: a smoothed mesh of any cloud. */
+  /** Every run on the projections: a smoothed mesh of any cloud, disc mode too. */
   Always
 };
 
@@ -135,8 +138,9 @@ struct ReconstructionReport
   std::size_t distant_intersecting_pairs = 0;
   /** \brief The check of the output mesh (valid when the pipeline produced one). */
   MeshReport mesh;
-  /** \brief How far the points lie off the surfaces fitted to them: measured where
-    * PointSmoothing asked for it (after a failed run, or always), else zero. */
+  /** \brief How far the points lie off the surfaces fitted to them: the fit the mesh
+    * runs through (or the last one tried), where PointSmoothing asked for one (after
+    * a failed run, or always); else zero. */
   PointNoise noise;
   /** \brief The mesh runs through the points' projections onto those surfaces
     * (Reconstruction::smoothed_points), not through the points as given. */
