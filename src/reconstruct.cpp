@@ -713,7 +713,8 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
     const auto start = std::chrono::steady_clock::now ();
     PreparedPoints moved = prepared;
     {
-      const Neighbourhoods wide = search (factor * options.k);
+      const Neighbourhoods wide =
+          search (options.k > std::numeric_limits<int>::max () / factor ? std::numeric_limits<int>::max () : factor * options.k);
       if (!wide.success && factor == 4) {
         if (always)
           report.message = wide.message;
@@ -733,7 +734,7 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
     char detail[112];
     std::snprintf (detail, sizeof detail,
                    "%d neighbours: points %.2f spacings off the fitted surfaces (median)",
-                   factor * options.k, report.noise.noise_ratio);
+                   options.k > std::numeric_limits<int>::max () / factor ? std::numeric_limits<int>::max () : factor * options.k, report.noise.noise_ratio);
     report.stage_seconds.emplace_back ("smoothing", seconds);
     if (options.progress && !options.progress ({"smoothing", 0.01, seconds, detail})) {
       report.message = "cancelled by the progress callback";
