@@ -711,10 +711,12 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
   // larger swings still leave the paths no room, more of them.
   for (const int factor : {4, 6}) {
     const auto start = std::chrono::steady_clock::now ();
+    const int wide_k = options.k > std::numeric_limits<int>::max () / factor
+                           ? std::numeric_limits<int>::max ()
+                           : factor * options.k;
     PreparedPoints moved = prepared;
     {
-      const Neighbourhoods wide =
-          search (options.k > std::numeric_limits<int>::max () / factor ? std::numeric_limits<int>::max () : factor * options.k);
+      const Neighbourhoods wide = search (wide_k);
       if (!wide.success && factor == 4) {
         if (always)
           report.message = wide.message;
@@ -734,7 +736,7 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
     char detail[112];
     std::snprintf (detail, sizeof detail,
                    "%d neighbours: points %.2f spacings off the fitted surfaces (median)",
-                   options.k > std::numeric_limits<int>::max () / factor ? std::numeric_limits<int>::max () : factor * options.k, report.noise.noise_ratio);
+                   wide_k, report.noise.noise_ratio);
     report.stage_seconds.emplace_back ("smoothing", seconds);
     if (options.progress && !options.progress ({"smoothing", 0.01, seconds, detail})) {
       report.message = "cancelled by the progress callback";

@@ -21,15 +21,7 @@ using Reconstruction = pcl::SphericalMeshlessReconstruction<pcl::PointXYZ>;
 
 namespace {
 
-pcl::PointCloud<pcl::PointXYZ>::Ptr
-toCloud (const pcl::meshless::Points3& points)
-{
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
-  for (const auto& p : points)
-    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
-                                     static_cast<float> (p.z ())));
-  return cloud;
-}
+using meshless_test::toCloud;
 
 /** Every promise of the closed topology on a result through all n points of a
   * cloud of genus g. */

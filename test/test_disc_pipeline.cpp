@@ -111,15 +111,7 @@ namespace {
 
 using Meshless = pcl::SphericalMeshlessReconstruction<pcl::PointXYZ>;
 
-pcl::PointCloud<pcl::PointXYZ>::Ptr
-toCloud (const Points3& points)
-{
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
-  for (const auto& p : points)
-    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
-                                     static_cast<float> (p.z ())));
-  return cloud;
-}
+using meshless_test::toCloud;
 
 /** The class in disc mode on `cloud`: success, one manifold, oriented, embedded mesh
   * through every point with `holes` holes, each its own boundary loop. */

@@ -46,15 +46,7 @@ using pcl::meshless::SyntheticShape;
   * these inputs needs (well below a second), low enough to call it a hang. */
 constexpr int kHangSeconds = 60;
 
-Cloud::Ptr
-toCloud (const pcl::meshless::Points3& points)
-{
-  auto cloud = pcl::make_shared<Cloud> ();
-  for (const auto& p : points)
-    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
-                                     static_cast<float> (p.z ())));
-  return cloud;
-}
+using meshless_test::toCloud;
 
 Cloud::Ptr
 shape (SyntheticShape s, std::size_t n, std::uint32_t seed = 1, double noise = 0.0)

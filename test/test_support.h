@@ -1,6 +1,8 @@
 // Helpers shared by the tests: data location, brute-force references.
 #pragma once
 
+#include <pcl/point_cloud.h>
+#include <pcl/point_types.h>
 #include <pcl/surface/meshless/neighbourhood_graph.h>
 #include <pcl/surface/meshless/types.h>
 
@@ -46,6 +48,17 @@ sharedFile (const std::string& relative)
   const std::string var = meshless_test::sharedFile (relative);                       \
   if (var.empty ())                                                                    \
   GTEST_SKIP () << "shared data not found: " << relative
+
+/** The points as a PCL cloud (float coordinates). */
+inline pcl::PointCloud<pcl::PointXYZ>::Ptr
+toCloud (const pcl::meshless::Points3& points)
+{
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  for (const auto& p : points)
+    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
+                                     static_cast<float> (p.z ())));
+  return cloud;
+}
 
 /** Directed k nearest neighbourhoods by brute force, nearest first: what the
   * conductor gets from PCL's search, for stage tests that must not depend on it. */
