@@ -30,6 +30,15 @@ namespace meshless {
 
 namespace {
 
+/** \brief factor * k, saturated: a caller may ask for more neighbours than an int holds
+  * times the factor, and a search clamps them to the cloud anyway. */
+int
+timesNeighbours (int factor, int k)
+{
+  return k > std::numeric_limits<int>::max () / factor ? std::numeric_limits<int>::max ()
+                                                       : factor * k;
+}
+
 /** \brief Marks every exact duplicate after the first of its position. Sorting one
   * contiguous array of coordinates is far faster than sorting indices that load
   * their points. */
@@ -381,19 +390,19 @@ Conductor::joinPiecesOfOneSurface ()
   // thin triangles about half, objects that nearly touch not at all.
   const double min_joins_along = 0.25;
   for (int factor = 2; factor <= 4 && !cancelled_; ++factor) {
-    Neighbourhoods wider = search_ (factor * options_.k);
+    Neighbourhoods wider = search_ (timesNeighbours (factor, options_.k));
     if (!wider.success || wider.num_empty > 0 ||
         connectedComponents (symmetricGraph (wider.neighbours, threads), joined) != 1)
       continue;
     if (joinsAlongTheSurface (points_, neighbourhoods_.neighbours, pieces, wider.neighbours) <
         min_joins_along) {
-      pieces_hint_ = " (" + std::to_string (factor * options_.k) +
+      pieces_hint_ = " (" + std::to_string (timesNeighbours (factor, options_.k)) +
                      " neighbours join its pieces only across their surfaces: separate "
                      "objects)";
       return false;
     }
     neighbourhoods_ = std::move (wider);
-    k_ = factor * options_.k;
+    k_ = timesNeighbours (factor, options_.k);
     result_.report.neighbours_k = k_;
     return clock_.done ("neighbourhoods", 0.02,
                         "the " + std::to_string (options_.k) +
@@ -410,7 +419,7 @@ Conductor::twiceAsManyNeighbours () const
 {
   if (options_.radius > 0.0)
     return {};
-  Neighbourhoods denser = search_ (2 * k_);
+  Neighbourhoods denser = search_ (timesNeighbours (2, k_));
   if (denser.num_empty > 0)
     denser.success = false;
   return denser;
@@ -428,7 +437,7 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
   clock_.restart ();
   Neighbourhoods denser = twiceAsManyNeighbours ();
   if (!denser.success ||
-      !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (2 * k_)))
+      !clock_.done ("neighbourhoods", 0.02, "k = " + std::to_string (timesNeighbours (2, k_))))
     return;
   if (routedAtK (options, denser, first) || cancelled_)
     return;
@@ -443,7 +452,7 @@ Conductor::growWithDenserNeighbourhoods (const SpherePipelineOptions& options,
   }
   first = std::move (second);
   neighbourhoods_ = std::move (denser);
-  result_.report.neighbours_k = 2 * k_;
+  result_.report.neighbours_k = timesNeighbours (2, k_);
 }
 
 /** \brief A D of genus above 0 grown at 2k, routed and mapped at k: wider
@@ -711,9 +720,7 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
   // larger swings still leave the paths no room, more of them.
   for (const int factor : {4, 6}) {
     const auto start = std::chrono::steady_clock::now ();
-    const int wide_k = options.k > std::numeric_limits<int>::max () / factor
-                           ? std::numeric_limits<int>::max ()
-                           : factor * options.k;
+    const int wide_k = timesNeighbours (factor, options.k);
     PreparedPoints moved = prepared;
     {
       const Neighbourhoods wide = search (wide_k);
