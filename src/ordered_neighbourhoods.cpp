@@ -196,20 +196,42 @@ orderNeighbourhoods (const Points3& points,
   // candidate layout (a ring is a subset of the candidates), then compacted.
   std::vector<pcl::index_t> slots (candidates.numEntries ());
   std::vector<pcl::index_t> ring_size (n, 0);
+  const double max_sine = std::sin (std::clamp (options.max_neighbour_elevation_deg, 0.0, 90.0) *
+                                    pi / 180.0);
+  const bool drop_steep = options.max_neighbour_elevation_deg < 90.0;
 
 #pragma omp parallel num_threads(threadCount (options.num_threads))
   {
     Points2 local;
     std::vector<int> ring;
+    std::vector<pcl::index_t> flat; // the candidates not too steep, in their order
 #pragma omp for schedule(dynamic, 256)
     for (std::ptrdiff_t sv = 0; sv < static_cast<std::ptrdiff_t> (n); ++sv) {
       const auto v = static_cast<pcl::index_t> (sv);
       const pcl::index_t* begin = candidates.begin (v);
       const pcl::index_t* end = candidates.end (v);
       const bool with_centre = options.plane == LocalPlane::ProjectOntoFit;
-      const Eigen::Vector3d normal = leastSquaresNormal (points, v, begin, end, with_centre);
+      Eigen::Vector3d normal = leastSquaresNormal (points, v, begin, end, with_centre);
       if (normal.isZero ())
         continue;
+      if (drop_steep) {
+        flat.clear ();
+        for (const pcl::index_t* w = begin; w != end; ++w) {
+          const Eigen::Vector3d d = points[*w] - points[v];
+          if (std::abs (normal.dot (d)) <= max_sine * d.norm ())
+            flat.push_back (*w);
+        }
+        const auto kept = static_cast<std::ptrdiff_t> (flat.size ());
+        if (kept >= 4 && kept < end - begin) {
+          const Eigen::Vector3d refit =
+              leastSquaresNormal (points, v, flat.data (), flat.data () + kept, with_centre);
+          if (!refit.isZero ()) {
+            normal = refit;
+            begin = flat.data ();
+            end = flat.data () + kept;
+          }
+        }
+      }
       result.normals[v] = normal.cast<float> ();
       localCoordinates (points, v, begin, end, normal, options.plane, local);
       result.largest_gap[v] = static_cast<float> (delaunayRing (local, ring));

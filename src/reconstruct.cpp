@@ -209,6 +209,8 @@ private:
              SphereTriangulation& first);
   void
   polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangulation& first);
+  void
+  ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTriangulation& first);
 
   const PreparedPoints& prepared_;
   const Points3& points_;
@@ -317,6 +319,8 @@ Conductor::firstSphereRun ()
   if (!first.success && options.grown_base_mesh && first.stats.genus < 0 &&
       options.user_base_mesh.faces.empty ())
     polyhedraWhereNoGenus (options, first);
+  if (!first.success && !cancelled_ && first.stats.graph_pieces <= 1)
+    ringsOnTheNearSide (options, first);
   if (options_.release_freed_memory)
     releaseFreedMemory (); // the pipeline's graphs and factors
   ReconstructionReport& report = result_.report;
@@ -502,6 +506,32 @@ Conductor::polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangula
   first = std::move (sphere);
   first.stats.genus = 0;
   genus_presumed_ = true;
+}
+
+/** \brief Every base mesh failed on the rings as ordered: where a part is only a few
+  * point spacings around, rings reaching its far side fold. The run again on rings
+  * of the near side only (not where the sphere topology saw handles: that refusal
+  * stands). `first` is replaced if that run succeeds and its triangulation does not
+  * turn back before the repair (a genus-0 mesh over a handle the check missed);
+  * the retries keep the rings. */
+void
+Conductor::ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTriangulation& first)
+{
+  if (options.refuse_handles && first.stats.genus > 0)
+    return;
+  clock_.restart ();
+  SpherePipelineOptions near_side = options;
+  near_side.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
+  SphereTriangulation again = triangulateSphere (points_, neighbourhoods_.neighbours, near_side);
+  if (!again.success && near_side.grown_base_mesh && again.stats.genus < 0 &&
+      near_side.user_base_mesh.faces.empty ())
+    polyhedraWhereNoGenus (near_side, again);
+  if (!again.success || finisher_.turnsBackUnrepaired (again.triangles, again.normals))
+    return;
+  first = std::move (again);
+  first_options_.max_neighbour_elevation_deg = near_side.max_neighbour_elevation_deg;
+  result_.report.near_side_rings = true;
+  clock_.done ("rings", 0.2, "on the near side only: every base mesh failed on the rings as ordered");
 }
 
 bool

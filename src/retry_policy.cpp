@@ -60,6 +60,17 @@ MeshFinisher::turnsBack (const Triangles& triangles, const Normals& normals,
 }
 
 bool
+MeshFinisher::turnsBackUnrepaired (const Triangles& triangles, const Normals& normals) const
+{
+  if (!closed_ || !options_.check_self_intersections)
+    return false;
+  const MeshReport raw = checkMesh (points_, triangles, check_);
+  double against = 0.0;
+  std::size_t distant = 0;
+  return turnsBack (triangles, normals, raw, against, distant);
+}
+
+bool
 MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
                            const char* stage, FoldRepairResult& repair,
                            std::vector<char>* rewritten)
@@ -233,7 +244,7 @@ RetryPolicy::currentTurnsBack ()
 
 int
 RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
-                         SpherePipelineStats* stats)
+                         SpherePipelineStats* stats, bool unrepaired_must_not_turn_back)
 {
   kept = false;
   SphereTriangulation other = triangulateSphere (points_, *neighbours_, options);
@@ -242,6 +253,8 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
   if (!other.success)
     return -1;
   const int attempt = other.stats.base_attempt;
+  if (unrepaired_must_not_turn_back && finisher_.turnsBackUnrepaired (other.triangles, other.normals))
+    return attempt;
   FinishedMesh finished;
   double against = 0.0;
   std::size_t distant = 0;
@@ -298,6 +311,17 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
     report.base_retry_kept |= kept;
     if (last_attempt < 0)
       break;
+  }
+  // Around a part only a few point spacings across, rings that reach its far side
+  // fold the patches: rings of the near side only (see OrderingOptions). Like the
+  // layouts, not for a result that turns back.
+  if (report.mesh.self_intersecting_pairs > 0 && options.max_neighbour_elevation_deg >= 90.0) {
+    SpherePipelineOptions near_side = options;
+    near_side.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
+    near_side.first_attempt = 0;
+    bool kept = false;
+    tryAnother (near_side, kept, nullptr, true);
+    report.near_side_rings |= kept;
   }
 }
 

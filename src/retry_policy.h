@@ -16,6 +16,11 @@ namespace meshless {
 
 using Normals = std::vector<Eigen::Vector3f>;
 
+/** \brief The rings' largest elevation (OrderingOptions) of the runs that try the
+  * near side only: around a part a few point spacings across, steeper neighbours
+  * lie on its far side. */
+constexpr double max_neighbour_elevation_on_retry = 50.0;
+
 /** \brief What finishing did to one triangulation; the report takes it over when
   * that triangulation becomes the result. */
 struct FinishedMesh
@@ -69,6 +74,12 @@ public:
   turnsBack (const Triangles& triangles, const Normals& normals, const MeshReport& mesh,
              double& against, std::size_t& distant) const;
 
+  /** \brief turnsBack on a triangulation as it comes from the pipeline, before the
+    * repair re-meshes its folds: a run on other rings may give a genus-0 mesh through
+    * a cloud with handles whose crossings the repair then hides. */
+  bool
+  turnsBackUnrepaired (const Triangles& triangles, const Normals& normals) const;
+
 private:
   bool
   repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
@@ -120,10 +131,11 @@ public:
   currentTurnsBack ();
 
   /** \brief One more run of the pipeline with `options`; replaces the result if it
-    * is better. \return the attempt whose base mesh the run used, or -1. */
+    * is better (and, if asked, its triangulation did not turn back before the
+    * repair). \return the attempt whose base mesh the run used, or -1. */
   int
   tryAnother (const SpherePipelineOptions& options, bool& kept,
-              SpherePipelineStats* stats = nullptr);
+              SpherePipelineStats* stats = nullptr, bool unrepaired_must_not_turn_back = false);
 
   /** \brief The thin-part run, then further base meshes, after a run with
     * `options` whose statistics are `first`. */

@@ -129,6 +129,7 @@ private:
     SurfaceGraphOptions graphs;
     graphs.weights = options_.weights;
     graphs.separate_thin_sheets = options_.separate_thin_sheets;
+    graphs.max_neighbour_elevation_deg = options_.max_neighbour_elevation_deg;
     graphs.num_threads = options_.num_threads;
     return graphs;
   }

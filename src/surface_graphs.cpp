@@ -86,6 +86,7 @@ buildSurfaceGraphs (const Points3& points,
 
   OrderingOptions ordering;
   ordering.num_threads = options.num_threads;
+  ordering.max_neighbour_elevation_deg = options.max_neighbour_elevation_deg;
   WeightOptions weighting;
   weighting.type = options.weights;
   weighting.num_threads = options.num_threads;

@@ -242,3 +242,43 @@ TEST (OrderedNeighbourhoods, LeastSquaresNormalOfAPlane)
   EXPECT_NEAR (std::abs (fit.dot (n)), 1.0, 1e-6);
   EXPECT_TRUE (leastSquaresNormal (points, 0, others.data (), others.data () + 1, true).isZero ());
 }
+
+TEST (OrderedNeighbourhoods, RingsOfAThinRodKeepToTheNearSideWhenSteepNeighboursDrop)
+{
+  // A rod six points around: twelve neighbours reach its far side, whose points
+  // project between the near ones. Without the steep neighbours every ring keeps to
+  // the near side and its plane is tangent to the rod.
+  const int around = 6, rings = 30;
+  Points3 points;
+  for (int r = 0; r < rings; ++r)
+    for (int j = 0; j < around; ++j) {
+      const double a = (j + 0.5 * (r % 2)) * 2.0 * pi / around;
+      points.emplace_back (std::cos (a), std::sin (a), 0.9 * r);
+    }
+  const CsrGraph graph = symmetricGraph (meshless_test::bruteForceKnnGraph (points, 12));
+  const auto farSideMembers = [&] (const OrderedNeighbourhoods& ordered) {
+    std::size_t far = 0;
+    for (std::size_t v = around * 4; v < points.size () - around * 4; ++v) {
+      const auto vi = static_cast<pcl::index_t> (v);
+      const Eigen::Vector2d radial (points[v].x (), points[v].y ());
+      for (auto w = ordered.rings.begin (vi); w != ordered.rings.end (vi); ++w)
+        far += radial.dot (Eigen::Vector2d (points[*w].x (), points[*w].y ())) < 0.0;
+    }
+    return far;
+  };
+  const OrderedNeighbourhoods all = orderNeighbourhoods (points, graph);
+  ASSERT_TRUE (all.success);
+  EXPECT_GT (farSideMembers (all), 0u) << "the rod is meant to be thin enough to fold rings";
+
+  OrderingOptions near_side;
+  near_side.max_neighbour_elevation_deg = 50.0;
+  const OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph, near_side);
+  ASSERT_TRUE (ordered.success);
+  EXPECT_EQ (farSideMembers (ordered), 0u);
+  for (std::size_t v = around * 4; v < points.size () - around * 4; ++v) {
+    const Eigen::Vector3d radial (points[v].x (), points[v].y (), 0.0);
+    EXPECT_GT (std::abs (ordered.normals[v].cast<double> ().dot (radial)), 0.95) << "point " << v;
+    EXPECT_GE (ordered.rings.degree (static_cast<pcl::index_t> (v)), 4);
+    EXPECT_LT (ordered.largest_gap[v], pi) << "point " << v;
+  }
+}

@@ -107,6 +107,10 @@ struct ReconstructionReport
   /** \brief The result comes from the second attempt with thin parts separated
     * (the first one intersected itself more). */
   bool thin_sheet_retry = false;
+  /** \brief The result comes from rings of each point's near side only
+    * (OrderingOptions::max_neighbour_elevation_deg): every base mesh failed on the
+    * rings as ordered, or left more intersecting pairs. */
+  bool near_side_rings = false;
   /** \brief On a small cloud (at most max_hull_points points) whose points all lie
     * on their convex hull, the pipeline failed or its mesh intersected itself, and
     * the hull is the result (convexHullThroughAll; not optimized). */

@@ -75,6 +75,9 @@ struct SpherePipelineOptions
     * stops at once with a message (it would repeat a run without them). Default
     * false. */
   bool separate_thin_sheets = false;
+  /** \brief Rings without the neighbours seen more steeply than this from the
+    * plane of a point's neighbourhood (OrderingOptions). Default 90: all kept. */
+  double max_neighbour_elevation_deg = 90.0;
   SolveOptions solve;
   /** \brief The edge swaps' angle pass inside each patch, in parallel with the
     * other patches' solves (flipFlatEdgesInPatch). Default: off; the class turns it

@@ -44,6 +44,9 @@ struct SurfaceGraphOptions
   /** \brief Drop the edges across parts thinner than the point spacing (see
     * buildSurfaceGraphs). Default false. */
   bool separate_thin_sheets = false;
+  /** \brief OrderingOptions::max_neighbour_elevation_deg of the rings. Default 90:
+    * every neighbour kept. */
+  double max_neighbour_elevation_deg = 90.0;
   /** \brief Threads for the graph, the rings and the weights (0 = all cores). The
     * result does not depend on it. Default 0. */
   int num_threads = 0;
