@@ -338,6 +338,19 @@ TEST (Robustness, ManyExactDuplicatesInANormalCloud)
   EXPECT_TRUE (outcome.success) << outcome.message;
   EXPECT_EQ (reconstruction.getReport ().num_duplicates, duplicates);
   EXPECT_EQ (reconstruction.getReport ().num_points, 1500u);
+
+  // Moved onto fitted surfaces, a duplicate goes where the point it repeats went.
+  Reconstruction smoothed;
+  smoothed.setInputCloud (cloud);
+  smoothed.setPointSmoothing (Reconstruction::PointSmoothing::Always);
+  expectMesh (expectContract (smoothed, expectedVertices (*cloud)));
+  const auto vertices = smoothed.getVertexCloud ();
+  ASSERT_TRUE (smoothed.getReport ().smoothed && vertices && vertices->size () == cloud->size ());
+  for (std::size_t d = 1500; d < cloud->size (); ++d) {
+    const std::size_t original = (d - 1500) % 300 * 5;
+    EXPECT_EQ ((*vertices)[d].getVector3fMap (), (*vertices)[original].getVector3fMap ()) << d;
+  }
+  EXPECT_NE ((*vertices)[0].getVector3fMap (), (*cloud)[0].getVector3fMap ()) << "moved";
 }
 
 TEST (Robustness, NaNAndInfPointsInANonDenseCloud)
