@@ -230,6 +230,7 @@ private:
   SpherePipelineOptions first_options_; // the first run's, which the retries vary
   bool cancelled_ = false;              // the user's callback said cancel, anywhere
   bool genus_presumed_ = false; // genus 0 from the polyhedra, no D grown: only if they succeed
+  bool handles_seen_ = false;   // by the polyhedra's check, where no D of that genus grew
   bool failed_on_the_surface_ = false;
 };
 
@@ -498,6 +499,7 @@ Conductor::polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangula
   options.refuse_handles = true;
   SphereTriangulation sphere = triangulateSphere (points_, neighbourhoods_.neighbours, options);
   if (!sphere.success) {
+    handles_seen_ |= sphere.stats.genus > 0;
     if (sphere.stats.genus > 0)
       first.message += "; " + std::to_string (sphere.stats.genus) +
                        " handle(s) were seen, but no base mesh of that genus could be grown";
@@ -508,30 +510,31 @@ Conductor::polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangula
   genus_presumed_ = true;
 }
 
-/** \brief Every base mesh failed on the rings as ordered: where a part is only a few
-  * point spacings around, rings reaching its far side fold. The run again on rings
-  * of the near side only (not where the sphere topology saw handles: that refusal
-  * stands). `first` is replaced if that run succeeds and its triangulation does not
-  * turn back before the repair (a genus-0 mesh over a handle the check missed);
-  * the retries keep the rings. */
+/** \brief Every base mesh failed on the rings as ordered: around a part a few point
+  * spacings around they reach its far side and fold. Not where handles were seen,
+  * and kept only if it does not turn back before its repair (a hidden handle). */
 void
 Conductor::ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTriangulation& first)
 {
-  if (options.refuse_handles && first.stats.genus > 0)
+  if (first.stats.genus > 0 || handles_seen_ || !options.user_base_mesh.faces.empty () ||
+      !options_.check_self_intersections)
     return;
   clock_.restart ();
   SpherePipelineOptions near_side = options;
   near_side.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
   SphereTriangulation again = triangulateSphere (points_, neighbourhoods_.neighbours, near_side);
-  if (!again.success && near_side.grown_base_mesh && again.stats.genus < 0 &&
-      near_side.user_base_mesh.faces.empty ())
+  const bool presumed = genus_presumed_;
+  if (!again.success && !cancelled_ && near_side.grown_base_mesh && again.stats.genus < 0)
     polyhedraWhereNoGenus (near_side, again);
-  if (!again.success || finisher_.turnsBackUnrepaired (again.triangles, again.normals))
+  if (cancelled_ || !again.success || handles_seen_ ||
+      finisher_.turnsBackUnrepaired (again.triangles, again.normals)) {
+    genus_presumed_ = presumed;
     return;
+  }
   first = std::move (again);
   first_options_.max_neighbour_elevation_deg = near_side.max_neighbour_elevation_deg;
   result_.report.near_side_rings = true;
-  clock_.done ("rings", 0.2, "on the near side only: every base mesh failed on the rings as ordered");
+  clock_.done ("near side", 0.35, "rings of the near side only: every base mesh failed on the rings as ordered");
 }
 
 bool

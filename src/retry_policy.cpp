@@ -244,7 +244,7 @@ RetryPolicy::currentTurnsBack ()
 
 int
 RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
-                         SpherePipelineStats* stats, bool unrepaired_must_not_turn_back)
+                         SpherePipelineStats* stats, RawCheck raw_check)
 {
   kept = false;
   SphereTriangulation other = triangulateSphere (points_, *neighbours_, options);
@@ -253,7 +253,8 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
   if (!other.success)
     return -1;
   const int attempt = other.stats.base_attempt;
-  if (unrepaired_must_not_turn_back && finisher_.turnsBackUnrepaired (other.triangles, other.normals))
+  if (raw_check == RawCheck::MustNotTurnBack &&
+      finisher_.turnsBackUnrepaired (other.triangles, other.normals))
     return attempt;
   FinishedMesh finished;
   double against = 0.0;
@@ -264,6 +265,7 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
     current_.triangles = std::move (other.triangles);
     current_.normals = std::move (other.normals);
     current_.report.stats = other.stats;
+    current_.report.near_side_rings = options.max_neighbour_elevation_deg < 90.0;
     if (denser_)
       current_.report.neighbours_k = denser_k_;
     current_.adopt (std::move (finished));
@@ -315,13 +317,14 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
   // Around a part only a few point spacings across, rings that reach its far side
   // fold the patches: rings of the near side only (see OrderingOptions). Like the
   // layouts, not for a result that turns back.
-  if (report.mesh.self_intersecting_pairs > 0 && options.max_neighbour_elevation_deg >= 90.0) {
+  if (report.mesh.self_intersecting_pairs > 0 && options.max_neighbour_elevation_deg >= 90.0 &&
+      options_.base_retries > 0 && !near_side_tried_) {
+    near_side_tried_ = true; // once: not again on k + 2 neighbours
     SpherePipelineOptions near_side = options;
     near_side.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
     near_side.first_attempt = 0;
     bool kept = false;
-    tryAnother (near_side, kept, nullptr, true);
-    report.near_side_rings |= kept;
+    tryAnother (near_side, kept, nullptr, RawCheck::MustNotTurnBack);
   }
 }
 

@@ -133,9 +133,14 @@ public:
   /** \brief One more run of the pipeline with `options`; replaces the result if it
     * is better (and, if asked, its triangulation did not turn back before the
     * repair). \return the attempt whose base mesh the run used, or -1. */
+  enum class RawCheck
+  {
+    None,
+    MustNotTurnBack
+  };
   int
   tryAnother (const SpherePipelineOptions& options, bool& kept,
-              SpherePipelineStats* stats = nullptr, bool unrepaired_must_not_turn_back = false);
+              SpherePipelineStats* stats = nullptr, RawCheck raw_check = RawCheck::None);
 
   /** \brief The thin-part run, then further base meshes, after a run with
     * `options` whose statistics are `first`. */
@@ -155,6 +160,7 @@ private:
   StageClock& clock_;
   const CsrGraph* neighbours_ = nullptr;
   bool denser_ = false;
+  bool near_side_tried_ = false;
   int denser_k_ = 0;
   Neighbourhoods denser_neighbourhoods_;
 };

@@ -24,11 +24,12 @@ struct OrderingOptions
 {
   /** \brief Default: LocalPlane::ProjectOntoFit. */
   LocalPlane plane = LocalPlane::ProjectOntoFit;
-  /** \brief Neighbours seen from v more steeply than this above or below the plane
-    * fitted to the whole neighbourhood are left out of v's ring, and the plane is
-    * fitted again to the rest (if at least four remain). Where a part is only a few
-    * point spacings around (a limb), the neighbourhood reaches its far side, whose
-    * points project between the near ones and fold the ring. Default 90: all kept. */
+  /** \brief Neighbours seen from v more steeply than this (degrees, 0..90) above or
+    * below the plane fitted to the whole neighbourhood are left out of v's ring, and
+    * the plane is fitted again to the rest; where fewer than four remain, or they fit
+    * no plane, every neighbour is kept. Where a part is only a few point spacings
+    * around (a limb), the neighbourhood reaches its far side, whose points project
+    * between the near ones and fold the ring. Default 90: all kept. */
   double max_neighbour_elevation_deg = 90.0;
   /** \brief Threads ordering the rings (0 = all cores). The rings do not depend on
     * it. Default 0. */
