@@ -39,10 +39,10 @@ timesNeighbours (int factor, int k)
                                                        : factor * k;
 }
 
-/** \brief Marks every exact duplicate after the first of its position. Sorting one
-  * contiguous array of coordinates is far faster than sorting indices that load
-  * their points. */
-std::vector<char>
+/** \brief For each point the first point at its position (itself unless it is an
+  * exact duplicate). Sorting one contiguous array of coordinates is far faster than
+  * sorting indices that load their points. */
+std::vector<std::uint32_t>
 firstOfEachPosition (const std::vector<Eigen::Vector3f>& xyz, std::size_t& num_duplicates)
 {
   struct Keyed
@@ -63,15 +63,15 @@ firstOfEachPosition (const std::vector<Eigen::Vector3f>& xyz, std::size_t& num_d
       return a.z < b.z;
     return a.k < b.k;
   });
-  std::vector<char> keep (xyz.size (), 1);
+  std::vector<std::uint32_t> first_of (xyz.size ());
   num_duplicates = 0;
-  for (std::size_t j = 1; j < sorted.size (); ++j)
-    if (sorted[j].x == sorted[j - 1].x && sorted[j].y == sorted[j - 1].y &&
-        sorted[j].z == sorted[j - 1].z) {
-      keep[sorted[j].k] = 0;
-      ++num_duplicates;
-    }
-  return keep;
+  for (std::size_t j = 0; j < sorted.size (); ++j) {
+    const bool repeats = j > 0 && sorted[j].x == sorted[j - 1].x &&
+                         sorted[j].y == sorted[j - 1].y && sorted[j].z == sorted[j - 1].z;
+    first_of[sorted[j].k] = repeats ? first_of[sorted[j - 1].k] : sorted[j].k;
+    num_duplicates += repeats;
+  }
+  return first_of;
 }
 
 /** \brief Float coordinates far from the origin against the cloud's size (a small
@@ -670,11 +670,11 @@ PreparedPoints
 preparePoints (const std::vector<Eigen::Vector3f>& xyz, const pcl::Indices& cloud_indices)
 {
   PreparedPoints prepared;
-  const std::vector<char> keep = firstOfEachPosition (xyz, prepared.num_duplicates);
+  const std::vector<std::uint32_t> first_of = firstOfEachPosition (xyz, prepared.num_duplicates);
   std::vector<std::size_t> kept;
   kept.reserve (xyz.size () - prepared.num_duplicates);
   for (std::size_t k = 0; k < xyz.size (); ++k)
-    if (keep[k])
+    if (first_of[k] == k)
       kept.push_back (k);
   const std::size_t n = kept.size ();
   for (const auto k : kept)
@@ -689,10 +689,19 @@ preparePoints (const std::vector<Eigen::Vector3f>& xyz, const pcl::Indices& clou
   const std::vector<pcl::index_t> order = mortonOrder (points);
   prepared.points.resize (n);
   prepared.cloud_indices.resize (n);
+  std::vector<pcl::index_t> pipeline_index;
+  if (prepared.num_duplicates > 0)
+    pipeline_index.assign (xyz.size (), -1);
   for (std::size_t i = 0; i < n; ++i) {
     prepared.points[i] = points[order[i]];
     prepared.cloud_indices[i] = cloud_indices[kept[order[i]]];
+    if (!pipeline_index.empty ())
+      pipeline_index[kept[order[i]]] = static_cast<pcl::index_t> (i);
   }
+  prepared.duplicates.reserve (prepared.num_duplicates);
+  for (std::size_t k = 0; k < first_of.size () && prepared.num_duplicates > 0; ++k)
+    if (first_of[k] != k)
+      prepared.duplicates.emplace_back (cloud_indices[k], pipeline_index[first_of[k]]);
   return prepared;
 }
 

@@ -70,6 +70,14 @@ TEST (PreparePoints, DropsDuplicatesKeepsTheFirstAndCentres)
     const Eigen::Vector3d original = xyz[p.cloud_indices[i] - 10].cast<double> ();
     EXPECT_TRUE ((p.points[i] + p.centroid).isApprox (original));
   }
+  // Each dropped duplicate names the pipeline point it repeats.
+  ASSERT_EQ (p.duplicates.size (), 2u);
+  for (const auto& [duplicate, repeated] : p.duplicates) {
+    ASSERT_GE (repeated, 0);
+    ASSERT_LT (static_cast<std::size_t> (repeated), p.points.size ());
+    EXPECT_EQ (xyz[duplicate - 10], xyz[p.cloud_indices[repeated] - 10]) << duplicate;
+    EXPECT_LT (p.cloud_indices[repeated], duplicate) << "the first of equal points";
+  }
 }
 
 TEST (CheckOptions, NamesTheSetter)

@@ -11,9 +11,7 @@
 #include <pcl/surface/spherical_meshless_reconstruction.h>
 
 #include <algorithm>
-#include <array>
 #include <limits>
-#include <map>
 
 namespace pcl {
 
@@ -160,25 +158,13 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
               options_.topology != Topology::Disc ? "closed" : "manifold");
   if (report_.smoothed) {
     auto moved = pcl::make_shared<pcl::PointCloud<PointInT>> (*input_);
-    // An exact duplicate goes where the point it repeats went.
-    std::map<std::array<float, 3>, Eigen::Vector3f> moved_from;
-    for (std::size_t i = 0; i < result.smoothed_points.size (); ++i) {
-      auto& point = (*moved)[prepared.cloud_indices[i]];
-      const Eigen::Vector3f to =
+    for (std::size_t i = 0; i < result.smoothed_points.size (); ++i)
+      (*moved)[prepared.cloud_indices[i]].getVector3fMap () =
           (result.smoothed_points[i] + prepared.centroid).template cast<float> ();
-      if (report_.num_duplicates > 0)
-        moved_from[{point.x, point.y, point.z}] = to;
-      point.getVector3fMap () = to;
-    }
-    if (report_.num_duplicates > 0)
-      for (const auto i : *indices_) {
-        if (!pcl::isFinite ((*input_)[i]))
-          continue;
-        auto& point = (*moved)[i];
-        const auto to = moved_from.find ({(*input_)[i].x, (*input_)[i].y, (*input_)[i].z});
-        if (to != moved_from.end ())
-          point.getVector3fMap () = to->second;
-      }
+    // An exact duplicate goes where the point it repeats went.
+    for (const auto& [duplicate, repeated] : prepared.duplicates)
+      (*moved)[duplicate].getVector3fMap () =
+          (*moved)[prepared.cloud_indices[repeated]].getVector3fMap ();
     vertex_cloud_ = moved;
     PCL_WARN ("[pcl::%s::reconstruct] the points lie %.2f of their spacing off the surfaces "
               "fitted to them (median): the mesh runs through their projections onto those "

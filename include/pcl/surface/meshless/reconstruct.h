@@ -174,6 +174,9 @@ struct PreparedPoints
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
   /** \brief Exact duplicates dropped (the first of equal points is kept). */
   std::size_t num_duplicates = 0;
+  /** \brief Each dropped duplicate: its input index and the pipeline index of the
+    * point it repeats. */
+  std::vector<std::pair<pcl::index_t, pcl::index_t>> duplicates;
 };
 
 /** \brief Drops exact duplicates, centres and orders the points.
