@@ -317,9 +317,7 @@ Conductor::firstSphereRun ()
     first = triangulateSphere (points_, neighbourhoods_.neighbours, options);
   if (!first.success && options.grown_base_mesh && first.stats.genus < 0)
     growWithDenserNeighbourhoods (options, first);
-  if (!first.success && options.grown_base_mesh && first.stats.genus < 0 &&
-      options.user_base_mesh.faces.empty ())
-    polyhedraWhereNoGenus (options, first);
+  polyhedraWhereNoGenus (options, first);
   if (!first.success && !cancelled_ && first.stats.graph_pieces <= 1)
     ringsOnTheNearSide (options, first);
   if (options_.release_freed_memory)
@@ -489,11 +487,13 @@ Conductor::routedAtK (const SpherePipelineOptions& options,
   * give rings too noisy to read a dual from. The sphere topology's polyhedra then
   * try, under its check for clear handles; a mesh from them passes the verdict a
   * sphere run passes, so its genus 0 is as sure as that topology's. `first` is
-  * replaced if that run succeeds. */
+  * replaced if that run succeeds; nothing runs unless `first` is a closed run that
+  * failed to find its genus on the class's own base meshes. */
 void
 Conductor::polyhedraWhereNoGenus (SpherePipelineOptions options, SphereTriangulation& first)
 {
-  if (cancelled_)
+  if (cancelled_ || first.success || !options.grown_base_mesh || first.stats.genus >= 0 ||
+      !options.user_base_mesh.faces.empty ())
     return;
   options.grown_base_mesh = false;
   options.refuse_handles = true;
@@ -524,8 +524,7 @@ Conductor::ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTrian
   near_side.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
   SphereTriangulation again = triangulateSphere (points_, neighbourhoods_.neighbours, near_side);
   const bool presumed = genus_presumed_;
-  if (!again.success && !cancelled_ && near_side.grown_base_mesh && again.stats.genus < 0)
-    polyhedraWhereNoGenus (near_side, again);
+  polyhedraWhereNoGenus (near_side, again);
   if (cancelled_ || !again.success || handles_seen_ ||
       finisher_.turnsBackUnrepaired (again.triangles, again.normals)) {
     genus_presumed_ = presumed;
@@ -699,9 +698,10 @@ preparePoints (const std::vector<Eigen::Vector3f>& xyz, const pcl::Indices& clou
       pipeline_index[kept[order[i]]] = static_cast<pcl::index_t> (i);
   }
   prepared.duplicates.reserve (prepared.num_duplicates);
-  for (std::size_t k = 0; k < first_of.size () && prepared.num_duplicates > 0; ++k)
-    if (first_of[k] != k)
-      prepared.duplicates.emplace_back (cloud_indices[k], pipeline_index[first_of[k]]);
+  if (prepared.num_duplicates > 0)
+    for (std::size_t k = 0; k < first_of.size (); ++k)
+      if (first_of[k] != k)
+        prepared.duplicates.emplace_back (cloud_indices[k], pipeline_index[first_of[k]]);
   return prepared;
 }
 

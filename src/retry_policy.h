@@ -130,14 +130,17 @@ public:
   bool
   currentTurnsBack ();
 
-  /** \brief One more run of the pipeline with `options`; replaces the result if it
-    * is better (and, if asked, its triangulation did not turn back before the
-    * repair). \return the attempt whose base mesh the run used, or -1. */
+  /** \brief Whether tryAnother also asks the triangulation not to turn back before
+    * its repair. */
   enum class RawCheck
   {
     None,
     MustNotTurnBack
   };
+
+  /** \brief One more run of the pipeline with `options`; replaces the result if it
+    * is better (and, if asked, its triangulation did not turn back before the
+    * repair). \return the attempt whose base mesh the run used, or -1. */
   int
   tryAnother (const SpherePipelineOptions& options, bool& kept,
               SpherePipelineStats* stats = nullptr, RawCheck raw_check = RawCheck::None);
