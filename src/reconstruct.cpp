@@ -793,6 +793,16 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
     }
     if (!always && first_fit.noise_ratio < min_noise_ratio)
       return failed;
+    if (!always && options.topology == Topology::Disc &&
+        first_fit.noise_ratio > max_disc_noise_ratio) {
+      char ratio[32];
+      std::snprintf (ratio, sizeof ratio, "%.2f", first_fit.noise_ratio);
+      report.message += std::string ("; the points lie ") + ratio +
+                        " point spacings off surfaces fitted to them (median), too noisy "
+                        "to tell an open surface's holes from the gaps of its sample "
+                        "(PointSmoothing::Always meshes their projections anyway)";
+      return failed;
+    }
     const NeighbourSearch moved_search = searchAmong (moved.points, options);
     Conductor conductor (moved, moved_search, options);
     second = conductor.run ();
@@ -841,10 +851,8 @@ reconstruct (const PreparedPoints& prepared,
     result = first.run ();
     failed_on_the_surface = first.failedOnTheSurface ();
   } // its neighbourhoods and finisher go before another run
-  // Not for open surfaces unless asked: the walk around a noisy hole's rim can fail
-  // on the projections too, and the hole would be closed over.
   if (result.report.success || options.smoothing != PointSmoothing::IfNoisy ||
-      options.topology == Topology::Disc || !failed_on_the_surface)
+      !failed_on_the_surface)
     return result;
   return runOnFittedSurfaces (prepared, search, options, std::move (result));
 }

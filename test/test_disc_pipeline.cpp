@@ -138,13 +138,14 @@ expectDiscWithHoles (Meshless& reconstruction, const pcl::PointCloud<pcl::PointX
 
 } // namespace
 
-TEST (DiscPipeline, PclPartialViewsAreManifoldDiscsOrRefused)
+TEST (DiscPipeline, PclPartialViewsAreManifoldDiscs)
 {
   // PCL's own single views. bunny.pcd is one open patch. milk.pcd, a depth view with
   // noise of about a sixth of its point spacing, has no outline the walk can follow
-  // (a gap of the sample is the longest loop it closes): refused, naming the
-  // boundary; asked to smooth, it is one disc, its dropouts narrower than the
-  // sample's own gaps closed over.
+  // through the points as given (a gap of the sample is the longest loop it
+  // closes): refused with smoothing off, naming the outline; by default its
+  // projections give one disc, its dropouts narrower than the sample's own gaps
+  // closed over.
   MESHLESS_REQUIRE_SHARED_FILE (bunny_path, "clouds/bunny_pcl.pcd");
   MESHLESS_REQUIRE_SHARED_FILE (milk_path, "clouds/milk_pcl.pcd");
   auto bunny = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
@@ -153,7 +154,9 @@ TEST (DiscPipeline, PclPartialViewsAreManifoldDiscsOrRefused)
   ASSERT_EQ (pcl::io::loadPCDFile (milk_path, *milk), 0);
   Meshless reconstruction;
   expectDiscWithHoles (reconstruction, bunny, 0);
+  EXPECT_FALSE (reconstruction.getReport ().smoothed);
 
+  reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Off);
   reconstruction.setInputCloud (milk);
   std::vector<pcl::Vertices> polygons;
   reconstruction.reconstruct (polygons);
@@ -162,7 +165,7 @@ TEST (DiscPipeline, PclPartialViewsAreManifoldDiscsOrRefused)
   EXPECT_NE (reconstruction.getReport ().message.find ("too ragged to follow"), std::string::npos)
       << reconstruction.getReport ().message;
 
-  reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Always);
+  reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::IfNoisy);
   expectDiscWithHoles (reconstruction, milk, 0);
   EXPECT_TRUE (reconstruction.getReport ().smoothed);
 }
@@ -211,8 +214,8 @@ TEST (DiscPipeline, LatticesAndHolesGiveTheirLoops)
 TEST (DiscPipeline, OpenSurfacesWithNoiseAtThePointSpacingCloseWhenSmoothed)
 {
   // A flat disc and a height field with Gaussian noise of about half their point
-  // spacing: through the points as given the map folds; asked to smooth, every
-  // member is one embedded disc, the noise's gaps not taken for holes.
+  // spacing: through the points as given the map folds; by default their
+  // projections give one embedded disc, the noise's gaps not taken for holes.
   for (const SyntheticShape shape : {SyntheticShape::Disc, SyntheticShape::HeightField})
     for (const std::uint32_t seed : {1u, 2u, 3u}) {
       SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " seed " +
@@ -220,16 +223,65 @@ TEST (DiscPipeline, OpenSurfacesWithNoiseAtThePointSpacingCloseWhenSmoothed)
       const auto cloud = toCloud (sampleShape (shape, {5000, seed, 0.005}));
       Meshless reconstruction;
       reconstruction.setTopology (Meshless::Topology::Disc);
+      reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Off);
       reconstruction.setInputCloud (cloud);
       std::vector<pcl::Vertices> polygons;
       reconstruction.reconstruct (polygons);
       EXPECT_FALSE (reconstruction.getReport ().success);
       EXPECT_FALSE (reconstruction.getReport ().smoothed);
 
-      reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Always);
+      reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::IfNoisy);
       expectDiscWithHoles (reconstruction, cloud, 0);
       EXPECT_TRUE (reconstruction.getReport ().smoothed);
     }
+}
+
+TEST (DiscPipeline, NoisyOpenSurfacesWithHolesKeepTheirHolesOrAreRefused)
+{
+  // Noise of 0.3% and 0.5% of the diagonal (0.2 and 0.3 point spacings off the
+  // fitted surfaces) on a height field with 1 and 3 holes: by default each member
+  // is one disc with exactly the holes the surface has (through the points or
+  // their projections). Far noisier (noise about the spacing), the sample's gaps
+  // pass for holes on the projections: refused by default, naming the noise.
+  int right = 0, members = 0;
+  for (const SyntheticShape shape : {SyntheticShape::HeightField})
+    for (const double noise : {0.003, 0.005})
+      for (const std::size_t holes : {1u, 3u})
+        for (const std::uint32_t seed : {1u}) {
+          SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " noise " +
+                        std::to_string (noise) + " holes " + std::to_string (holes) +
+                        " seed " + std::to_string (seed));
+          pcl::meshless::SyntheticCloudOptions options{5000, seed, noise};
+          options.holes = holes;
+          Meshless reconstruction;
+          reconstruction.setTopology (Meshless::Topology::Disc);
+          reconstruction.setInputCloud (toCloud (sampleShape (shape, options)));
+          std::vector<pcl::Vertices> polygons;
+          reconstruction.reconstruct (polygons);
+          const auto& report = reconstruction.getReport ();
+          ++members;
+          if (!report.success) {
+            EXPECT_TRUE (polygons.empty ());
+            continue;
+          }
+          EXPECT_EQ (report.holes, holes);
+          EXPECT_EQ (report.mesh.boundary_loops, 1 + holes);
+          EXPECT_TRUE (report.mesh.isManifold ());
+          EXPECT_EQ (report.mesh.self_intersecting_pairs, 0u);
+          right += report.holes == holes ? 1 : 0;
+        }
+  EXPECT_EQ (right, members);
+
+  const auto noisy = toCloud (sampleShape (SyntheticShape::Disc, {5000, 1, 0.012}));
+  Meshless reconstruction;
+  reconstruction.setTopology (Meshless::Topology::Disc);
+  reconstruction.setInputCloud (noisy);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_NE (reconstruction.getReport ().message.find ("too noisy to tell"), std::string::npos)
+      << reconstruction.getReport ().message;
 }
 
 TEST (DiscPipeline, FaceScanIsOneManifoldDiscThroughEveryPoint)

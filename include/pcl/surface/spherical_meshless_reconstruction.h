@@ -280,9 +280,9 @@ public:
     * more than meshless::min_noise_ratio of their spacing off those surfaces (noise
     * about as large as the spacing); getReport ().smoothed then says so, with a
     * PCL_WARN, and the output cloud holds the moved positions (getVertexCloud ()).
-    * Closed topologies only: in disc mode a noisy hole's rim missed on the
-    * projections would close the hole over. Off: always through the points as
-    * given. Always: a smoothed mesh of any cloud, disc mode too. */
+    * In disc mode only up to meshless::max_disc_noise_ratio: noisier, a hole's rim
+    * can be missed on the projections. Off: always through the points as given.
+    * Always: a smoothed mesh of any cloud, disc mode too. */
   inline void
   setPointSmoothing (PointSmoothing smoothing)
   {

@@ -36,6 +36,12 @@ struct PointNoise
   * fails. */
 constexpr double min_noise_ratio = 0.15;
 
+/** \brief In disc mode, the noise ratio up to which PointSmoothing::IfNoisy moves a
+  * failed cloud's points. Above it the sample's own gaps on the projections grow as
+  * wide as holes and a hole's rim can be missed, so that the hole count would be
+  * wrong; such a cloud is refused unless asked to smooth always. */
+constexpr double max_disc_noise_ratio = 0.45;
+
 /** \brief The points projected onto the quadratic surfaces fitted to their
   * neighbourhoods, and how far they moved. */
 struct SmoothedPoints

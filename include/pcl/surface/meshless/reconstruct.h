@@ -40,12 +40,12 @@ enum class PointSmoothing
 {
   /** The points as given: a cloud whose noise is about its point spacing may fail. */
   Off,
-  /** Default: in the closed topologies, where the run on the points fails (not on a
-    * handle the sphere topology refuses) and they lie, in the median, more than
-    * min_noise_ratio of their spacing off the surfaces fitted to them, the run is
-    * repeated on their projections (ReconstructionReport::smoothed says so). Not in
-    * disc mode: an open surface's holes are not checked, and a noisy hole's rim
-    * missed on the projections would close it over. */
+  /** Default: where the run on the points fails (not on a handle the sphere
+    * topology refuses) and they lie, in the median, more than min_noise_ratio of
+    * their spacing off the surfaces fitted to them, the run is repeated on their
+    * projections (ReconstructionReport::smoothed says so). In disc mode only up to
+    * max_disc_noise_ratio: noisier, the sample's gaps pass for holes and holes'
+    * rims are missed. */
   IfNoisy,
   /** Every run on the projections: a smoothed mesh of any cloud, disc mode too. */
   Always
