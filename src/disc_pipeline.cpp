@@ -3,7 +3,9 @@
  *  pcl_spherical_meshless - see LICENSE.
  */
 #include "common/constants.h"
+#include "common/half_edges.h"
 #include "common/stage_clock.h"
+#include "common/union_find.h"
 
 #include <pcl/surface/meshless/delaunay_2d.h>
 #include <pcl/surface/meshless/disc_pipeline.h>
@@ -235,6 +237,74 @@ findBoundaryLoops (const Points3& points,
     result.message = "no boundary loop found: the cloud looks closed (use the sphere "
                      "topology) or its boundary is too ragged for k neighbours";
   return result;
+}
+
+namespace {
+
+/** Each point's mean distance to its six nearest in `neighbourhoods`. */
+std::vector<double>
+pointSpacing (const Points3& points, const CsrGraph& neighbourhoods)
+{
+  const std::size_t n = points.size ();
+  std::vector<double> spacing (n, 0.0);
+  std::vector<double> distances;
+  for (std::size_t v = 0; v < n; ++v) {
+    distances.clear ();
+    const auto vi = static_cast<pcl::index_t> (v);
+    for (const pcl::index_t* w = neighbourhoods.begin (vi); w != neighbourhoods.end (vi); ++w)
+      distances.push_back ((points[*w] - points[v]).norm ());
+    const std::size_t nearest = std::min<std::size_t> (6, distances.size ());
+    if (nearest == 0)
+      continue;
+    std::partial_sort (distances.begin (), distances.begin () + nearest, distances.end ());
+    spacing[v] = std::accumulate (distances.begin (), distances.begin () + nearest, 0.0) /
+                 static_cast<double> (nearest);
+  }
+  return spacing;
+}
+
+} // namespace
+
+std::size_t
+openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangles& triangles,
+                 double max_span)
+{
+  const std::vector<double> spacing = pointSpacing (points, neighbourhoods);
+  auto spans = [&] (const Triangle& t) {
+    for (int e = 0; e < 3; ++e) {
+      const pcl::index_t a = t[e], b = t[(e + 1) % 3];
+      const double local = std::max (spacing[a], spacing[b]);
+      if (local > 0.0 && (points[a] - points[b]).norm () > max_span * local)
+        return true;
+    }
+    return false;
+  };
+  std::vector<char> removed (triangles.size (), 0);
+  std::size_t count = 0;
+  for (std::size_t t = 0; t < triangles.size (); ++t)
+    if (spans (triangles[t])) {
+      removed[t] = 1;
+      ++count;
+    }
+  if (count == 0)
+    return 0;
+  // Regions: removed triangles joined across their shared edges.
+  const std::vector<std::int32_t> twins = halfEdgeTwins (triangles, points.size ());
+  DisjointSets<std::size_t> regions (triangles.size ());
+  for (std::size_t h = 0; h < twins.size (); ++h)
+    if (twins[h] >= 0 && removed[h / 3] && removed[static_cast<std::size_t> (twins[h]) / 3])
+      regions.join (h / 3, static_cast<std::size_t> (twins[h]) / 3);
+  std::size_t num_regions = 0;
+  Triangles kept;
+  kept.reserve (triangles.size () - count);
+  for (std::size_t t = 0; t < triangles.size (); ++t) {
+    if (!removed[t])
+      kept.push_back (triangles[t]);
+    else if (regions.find (t) == t)
+      ++num_regions;
+  }
+  triangles = std::move (kept);
+  return num_regions;
 }
 
 DiscTriangulation

@@ -5,6 +5,7 @@
 #include "retry_policy.h"
 
 #include <pcl/surface/meshless/convex_hull.h>
+#include <pcl/surface/meshless/disc_pipeline.h>
 #include "common/freed_memory.h"
 
 #include <algorithm>
@@ -19,6 +20,7 @@ CurrentResult::adopt (FinishedMesh&& finished)
   report.raw_fold_repair = std::move (finished.raw_repair);
   report.fold_repair = std::move (finished.repair);
   report.mesh = std::move (finished.mesh);
+  report.holes += finished.holes_opened;
 }
 
 // ---------------------------------------------------------------------------
@@ -170,7 +172,7 @@ MeshFinisher::checkFinal (const Triangles& triangles, FinishedMesh& finished)
 }
 
 std::string
-MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh) const
+MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh, std::size_t holes_opened) const
 {
   // A closed, consistently oriented mesh with a negative volume is inside out as a
   // whole (one far outlier with an unreliable normal can carry the orientation
@@ -185,7 +187,7 @@ MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh) const
     mesh.signed_volume = -mesh.signed_volume;
   }
   const std::size_t n = points_.size ();
-  const long holes = static_cast<long> (current_.report.holes);
+  const long holes = static_cast<long> (current_.report.holes + holes_opened);
   const bool valid =
       closed_ ? closed_of_genus && genus >= 0 &&
                     static_cast<long> (triangles.size ()) == 2 * static_cast<long> (n) - 4 + 4 * genus &&
@@ -216,7 +218,37 @@ MeshFinisher::finish (Triangles& triangles, const Normals& normals, FinishedMesh
     return "cancelled by the progress callback";
   if (finished.repair.regions_remeshed > 0)
     finished.mesh = checkMesh (points_, triangles, check_);
-  return verdict (triangles, finished.mesh);
+  const std::string missed = openMissedHoles (triangles, finished);
+  if (!missed.empty ())
+    return missed;
+  return verdict (triangles, finished.mesh, finished.holes_opened);
+}
+
+std::string
+MeshFinisher::openMissedHoles (Triangles& triangles, FinishedMesh& finished) const
+{
+  // Only on swapped meshes: the raw triangulation's long triangles near the outline
+  // are the parameterization's, not holes.
+  if (closed_ || !options_.optimize || neighbours_ == nullptr)
+    return "";
+  Triangles opened = triangles;
+  const std::size_t regions = meshless::openMissedHoles (points_, *neighbours_, opened);
+  if (regions == 0)
+    return "";
+  MeshReport mesh = checkMesh (points_, opened, check_);
+  const long holes = static_cast<long> (current_.report.holes + regions);
+  if (!mesh.isManifold () || !mesh.isOriented () || mesh.components != 1 ||
+      mesh.unused_vertices != 0 || mesh.boundary_loops != static_cast<std::size_t> (1 + holes) ||
+      mesh.euler_characteristic != 1 - holes)
+    return std::to_string (regions) +
+           " region(s) of triangles several point spacings long span what look like holes "
+           "whose rims the boundary walk missed, and they do not cut open cleanly (a "
+           "ragged or noisy rim; a denser sample or smoothing may find it): " +
+           describe (mesh);
+  triangles = std::move (opened);
+  finished.mesh = std::move (mesh);
+  finished.holes_opened = regions;
+  return "";
 }
 
 // ---------------------------------------------------------------------------

@@ -28,6 +28,8 @@ struct FinishedMesh
   EdgeSwapResult optimization;
   FoldRepairResult raw_repair, repair;
   MeshReport mesh;
+  /** \brief Disc topology: holes whose rims the boundary walk missed, cut open. */
+  std::size_t holes_opened = 0;
 };
 
 /** \brief The result so far of one reconstruction: its triangles, the oriented
@@ -93,7 +95,9 @@ private:
   void
   checkFinal (const Triangles& triangles, FinishedMesh& finished);
   std::string
-  verdict (Triangles& triangles, MeshReport& mesh) const;
+  openMissedHoles (Triangles& triangles, FinishedMesh& finished) const;
+  std::string
+  verdict (Triangles& triangles, MeshReport& mesh, std::size_t holes_opened) const;
 
   const Points3& points_;
   const ReconstructionOptions& options_;

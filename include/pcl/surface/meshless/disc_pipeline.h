@@ -44,6 +44,22 @@ findBoundaryLoops (const Points3& points,
                    double min_gap = 3.14159265358979323846,
                    std::size_t min_loop = 8);
 
+/** \brief Triangles longer than a few point spacings, which span an open surface's
+  * holes where the boundary walk missed their rims, as a factor of the spacing
+  * (a point's mean distance to its six nearest): a sample's own triangles reach
+  * about 2, a missed hole's 4.5 and more. */
+constexpr double max_edge_over_spacing = 4.0;
+
+/** \brief Cut open the holes the boundary walk missed: removes the triangles with an
+  * edge longer than `max_span` times the larger spacing of its end points (each
+  * point's mean distance to its six nearest in `neighbourhoods`). Run on a finished
+  * (edge-swapped) mesh: the raw parameter-space triangulation has long triangles
+  * near the outline that the swaps remove.
+  * \return the number of edge-connected regions removed (0: triangles unchanged) */
+std::size_t
+openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangles& triangles,
+                 double max_span = max_edge_over_spacing);
+
 struct DiscPipelineOptions
 {
   /** \brief Default: WeightType::MeanValue. */
