@@ -4,6 +4,7 @@
  */
 #include "common/constants.h"
 #include "common/half_edges.h"
+#include "common/spacing.h"
 #include "common/stage_clock.h"
 #include "common/union_find.h"
 
@@ -239,37 +240,17 @@ findBoundaryLoops (const Points3& points,
   return result;
 }
 
-namespace {
-
-/** Each point's mean distance to its six nearest in `neighbourhoods`. */
-std::vector<double>
-pointSpacing (const Points3& points, const CsrGraph& neighbourhoods)
-{
-  const std::size_t n = points.size ();
-  std::vector<double> spacing (n, 0.0);
-  std::vector<double> distances;
-  for (std::size_t v = 0; v < n; ++v) {
-    distances.clear ();
-    const auto vi = static_cast<pcl::index_t> (v);
-    for (const pcl::index_t* w = neighbourhoods.begin (vi); w != neighbourhoods.end (vi); ++w)
-      distances.push_back ((points[*w] - points[v]).norm ());
-    const std::size_t nearest = std::min<std::size_t> (6, distances.size ());
-    if (nearest == 0)
-      continue;
-    std::partial_sort (distances.begin (), distances.begin () + nearest, distances.end ());
-    spacing[v] = std::accumulate (distances.begin (), distances.begin () + nearest, 0.0) /
-                 static_cast<double> (nearest);
-  }
-  return spacing;
-}
-
-} // namespace
-
 std::size_t
 openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangles& triangles,
                  double max_span)
 {
-  const std::vector<double> spacing = pointSpacing (points, neighbourhoods);
+  const std::size_t n = points.size ();
+  std::vector<double> spacing (n, 0.0), distances;
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto vi = static_cast<pcl::index_t> (v);
+    spacing[v] = nearestSpacing (points, vi, neighbourhoods.begin (vi), neighbourhoods.end (vi),
+                                 distances);
+  }
   auto spans = [&] (const Triangle& t) {
     for (int e = 0; e < 3; ++e) {
       const pcl::index_t a = t[e], b = t[(e + 1) % 3];
@@ -280,30 +261,36 @@ openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangle
     return false;
   };
   std::vector<char> removed (triangles.size (), 0);
-  std::size_t count = 0;
+  bool any = false;
   for (std::size_t t = 0; t < triangles.size (); ++t)
-    if (spans (triangles[t])) {
-      removed[t] = 1;
-      ++count;
-    }
-  if (count == 0)
+    if (spans (triangles[t]))
+      removed[t] = any = true;
+  if (!any)
     return 0;
-  // Regions: removed triangles joined across their shared edges.
-  const std::vector<std::int32_t> twins = halfEdgeTwins (triangles, points.size ());
-  DisjointSets<std::size_t> regions (triangles.size ());
+  // Regions: long triangles joined across their shared edges. One that reaches the
+  // boundary is no hole (removed, it would only move the outline): it stays.
+  const std::vector<std::int32_t> twins = halfEdgeTwins (triangles, n);
+  DisjointSets<std::uint32_t> regions (triangles.size ());
   for (std::size_t h = 0; h < twins.size (); ++h)
     if (twins[h] >= 0 && removed[h / 3] && removed[static_cast<std::size_t> (twins[h]) / 3])
-      regions.join (h / 3, static_cast<std::size_t> (twins[h]) / 3);
+      regions.join (static_cast<std::uint32_t> (h / 3),
+                    static_cast<std::uint32_t> (static_cast<std::size_t> (twins[h]) / 3));
+  std::vector<char> on_outline (triangles.size (), 0);
+  for (std::size_t h = 0; h < twins.size (); ++h)
+    if (twins[h] < 0 && removed[h / 3])
+      on_outline[regions.find (static_cast<std::uint32_t> (h / 3))] = 1;
   std::size_t num_regions = 0;
   Triangles kept;
-  kept.reserve (triangles.size () - count);
+  kept.reserve (triangles.size ());
   for (std::size_t t = 0; t < triangles.size (); ++t) {
-    if (!removed[t])
+    const std::uint32_t region = removed[t] ? regions.find (static_cast<std::uint32_t> (t)) : 0;
+    if (!removed[t] || on_outline[region])
       kept.push_back (triangles[t]);
-    else if (regions.find (t) == t)
+    else if (region == t)
       ++num_regions;
   }
-  triangles = std::move (kept);
+  if (num_regions > 0)
+    triangles = std::move (kept);
   return num_regions;
 }
 

@@ -4,6 +4,7 @@
  */
 #include <pcl/surface/meshless/point_smoothing.h>
 
+#include "common/spacing.h"
 #include "common/threads.h"
 
 #include <pcl/point_cloud.h>
@@ -52,9 +53,8 @@ projectOntoFittedSurfaces (const Points3& points, const CsrGraph& neighbours, in
   for (std::size_t i = 0; i < n; ++i)
     cloud[i].getVector3fMap () = points[i].cast<float> ();
   std::vector<double> offsets (n, 0.0), spacings (n, 0.0);
-  // The six nearest give the spacing: fewer see the noise pull pairs together. A
-  // quadratic has six coefficients: with fewer points PCL leaves them unset.
-  const std::size_t spacing_count = 6, min_fit = 6;
+  // A quadratic has six coefficients: with fewer points PCL leaves them unset.
+  const std::size_t min_fit = 6;
 #pragma omp parallel num_threads(threadCount (num_threads))
   {
     pcl::Indices fit;
@@ -63,19 +63,10 @@ projectOntoFittedSurfaces (const Points3& points, const CsrGraph& neighbours, in
     for (std::ptrdiff_t ii = 0; ii < static_cast<std::ptrdiff_t> (n); ++ii) {
       const auto i = static_cast<pcl::index_t> (ii);
       fit.assign (1, i);
-      distances.clear ();
-      for (const pcl::index_t* w = neighbours.begin (i); w != neighbours.end (i); ++w) {
-        fit.push_back (*w);
-        distances.push_back ((points[*w] - points[i]).norm ());
-      }
+      fit.insert (fit.end (), neighbours.begin (i), neighbours.end (i));
+      spacings[i] = nearestSpacing (points, i, neighbours.begin (i), neighbours.end (i), distances);
       if (distances.empty ())
         continue;
-      const std::size_t nearest = std::min (spacing_count, distances.size ());
-      std::nth_element (distances.begin (), distances.begin () + (nearest - 1), distances.end ());
-      double sum = 0.0;
-      for (std::size_t j = 0; j < nearest; ++j)
-        sum += distances[j];
-      spacings[i] = sum / static_cast<double> (nearest);
       if (fit.size () < min_fit)
         continue;
       const double reach = *std::max_element (distances.begin (), distances.end ());

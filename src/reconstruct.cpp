@@ -548,6 +548,7 @@ Conductor::firstDiscRun ()
     return fail ("the disc reconstruction failed: " + disc.message);
   result_.report.holes = disc.holes;
   result_.triangles = std::move (disc.triangles);
+  finisher_.useNeighbours (&neighbourhoods_.neighbours); // to find holes the walk missed
   return true;
 }
 
@@ -800,7 +801,7 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
       report.message += std::string ("; the points lie ") + ratio +
                         " point spacings off surfaces fitted to them (median), too noisy "
                         "to tell an open surface's holes from the gaps of its sample "
-                        "(PointSmoothing::Always meshes their projections anyway)";
+                        "(setPointSmoothing (PointSmoothing::Always) meshes their projections anyway)";
       return failed;
     }
     const NeighbourSearch moved_search = searchAmong (moved.points, options);

@@ -9,6 +9,7 @@
 #include "common/freed_memory.h"
 
 #include <algorithm>
+#include <cstdio>
 
 namespace pcl {
 namespace meshless {
@@ -20,7 +21,9 @@ CurrentResult::adopt (FinishedMesh&& finished)
   report.raw_fold_repair = std::move (finished.raw_repair);
   report.fold_repair = std::move (finished.repair);
   report.mesh = std::move (finished.mesh);
-  report.holes += finished.holes_opened;
+  // The walk's holes stay; those cut open are the finished mesh's.
+  report.holes = report.holes - report.holes_opened + finished.holes_opened;
+  report.holes_opened = finished.holes_opened;
 }
 
 // ---------------------------------------------------------------------------
@@ -187,7 +190,8 @@ MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh, std::size_t holes
     mesh.signed_volume = -mesh.signed_volume;
   }
   const std::size_t n = points_.size ();
-  const long holes = static_cast<long> (current_.report.holes + holes_opened);
+  const long holes =
+      static_cast<long> (current_.report.holes - current_.report.holes_opened + holes_opened);
   const bool valid =
       closed_ ? closed_of_genus && genus >= 0 &&
                     static_cast<long> (triangles.size ()) == 2 * static_cast<long> (n) - 4 + 4 * genus &&
@@ -231,22 +235,23 @@ MeshFinisher::openMissedHoles (Triangles& triangles, FinishedMesh& finished) con
   // are the parameterization's, not holes.
   if (closed_ || !options_.optimize || neighbours_ == nullptr)
     return "";
-  Triangles opened = triangles;
-  const std::size_t regions = meshless::openMissedHoles (points_, *neighbours_, opened);
+  const std::size_t regions = meshless::openMissedHoles (points_, *neighbours_, triangles);
   if (regions == 0)
     return "";
-  MeshReport mesh = checkMesh (points_, opened, check_);
-  const long holes = static_cast<long> (current_.report.holes + regions);
+  finished.mesh = checkMesh (points_, triangles, check_);
+  const MeshReport& mesh = finished.mesh;
+  const long holes = static_cast<long> (current_.report.holes - current_.report.holes_opened + regions);
   if (!mesh.isManifold () || !mesh.isOriented () || mesh.components != 1 ||
       mesh.unused_vertices != 0 || mesh.boundary_loops != static_cast<std::size_t> (1 + holes) ||
-      mesh.euler_characteristic != 1 - holes)
-    return std::to_string (regions) +
-           " region(s) of triangles several point spacings long span what look like holes "
-           "whose rims the boundary walk missed, and they do not cut open cleanly (a "
-           "ragged or noisy rim; a denser sample or smoothing may find it): " +
-           describe (mesh);
-  triangles = std::move (opened);
-  finished.mesh = std::move (mesh);
+      mesh.euler_characteristic != 1 - holes) {
+    char span[32];
+    std::snprintf (span, sizeof span, "%g", max_edge_over_spacing);
+    return std::to_string (regions) + " region(s) of triangles with edges over " + span +
+           " times their points' spacing span what look like holes whose rims the "
+           "boundary walk missed, and removing them leaves no disc with holes (a ragged "
+           "or noisy rim; setPointSmoothing (PointSmoothing::Always) or a denser sample "
+           "may let the walk find it): " + describe (mesh);
+  }
   finished.holes_opened = regions;
   return "";
 }

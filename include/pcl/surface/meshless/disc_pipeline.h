@@ -44,18 +44,19 @@ findBoundaryLoops (const Points3& points,
                    double min_gap = 3.14159265358979323846,
                    std::size_t min_loop = 8);
 
-/** \brief Triangles longer than a few point spacings, which span an open surface's
-  * holes where the boundary walk missed their rims, as a factor of the spacing
-  * (a point's mean distance to its six nearest): a sample's own triangles reach
-  * about 2, a missed hole's 4.5 and more. */
+/** \brief An edge longer than this many times the spacing of its end points (a
+  * point's mean distance to its six nearest) spans a hole: a sample's own edges
+  * stay well below it (doc/benchmarks.md). */
 constexpr double max_edge_over_spacing = 4.0;
 
 /** \brief Cut open the holes the boundary walk missed: removes the triangles with an
-  * edge longer than `max_span` times the larger spacing of its end points (each
-  * point's mean distance to its six nearest in `neighbourhoods`). Run on a finished
-  * (edge-swapped) mesh: the raw parameter-space triangulation has long triangles
-  * near the outline that the swaps remove.
-  * \return the number of edge-connected regions removed (0: triangles unchanged) */
+  * edge longer than `max_span` (positive) times the larger spacing of its end
+  * points (each point's mean distance to its six nearest in `neighbourhoods`;
+  * with fewer neighbours the spacing is smaller and more triangles look long).
+  * Edge-connected regions of such triangles that reach the boundary stay. Run it
+  * on a finished (edge-swapped) mesh: in the raw parameter-space triangulation,
+  * long triangles near the outline are the map's, until the swaps shorten them.
+  * \return the number of regions removed (0: triangles unchanged) */
 std::size_t
 openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangles& triangles,
                  double max_span = max_edge_over_spacing);

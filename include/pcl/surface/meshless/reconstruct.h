@@ -104,6 +104,9 @@ struct ReconstructionReport
   SpherePipelineStats stats;
   /** \brief Disc topology: inner boundary loops (holes) kept open. */
   std::size_t holes = 0;
+  /** \brief Of `holes`, those whose rims the boundary walk missed: cut open where
+    * triangles spanned them (meshless::openMissedHoles). */
+  std::size_t holes_opened = 0;
   /** \brief The result comes from the second attempt with thin parts separated
     * (the first one intersected itself more). */
   bool thin_sheet_retry = false;
