@@ -221,6 +221,9 @@ printResult (const Reconstruction& reconstruction, const pcl::PolygonMesh& mesh,
   else if (reconstruction.getTopology () == Reconstruction::Topology::Closed)
     print_info (" points, genus %d (2n - 4 + 4g = %zu), in ", report.stats.genus,
                 2 * report.num_points - 4 + 4 * static_cast<std::size_t> (report.stats.genus));
+  else if (report.holes_opened > 0)
+    print_info (" points, %zu hole(s) kept open (%zu cut open where the rim walk missed "
+                "them), in ", report.holes, report.holes_opened);
   else
     print_info (" points, %zu hole(s) kept open, in ", report.holes);
   print_value ("%.2f", seconds);
