@@ -148,15 +148,6 @@ public:
   Conductor&
   operator= (const Conductor&) = delete;
 
-  /** \brief The points are projections of noisy ones: the noise's in-plane part
-    * leaves their gaps wider, so holes the walk missed are looked for at a longer
-    * span. Before run (). */
-  void
-  runsOnProjections ()
-  {
-    missed_hole_span_ = max_edge_over_spacing_projected;
-  }
-
   Reconstruction
   run ();
 
@@ -235,7 +226,6 @@ private:
   MeshFinisher finisher_;
   std::string precision_hint_; // appended to failures once the points are known
   std::string pieces_hint_;    // why a graph in pieces stayed in pieces
-  double missed_hole_span_ = max_edge_over_spacing;
   Neighbourhoods neighbourhoods_;
   SpherePipelineOptions first_options_; // the first run's, which the retries vary
   bool cancelled_ = false;              // the user's callback said cancel, anywhere
@@ -558,7 +548,7 @@ Conductor::firstDiscRun ()
     return fail ("the disc reconstruction failed: " + disc.message);
   result_.report.holes = disc.holes;
   result_.triangles = std::move (disc.triangles);
-  finisher_.lookForMissedHoles (&neighbourhoods_.neighbours, missed_hole_span_);
+  finisher_.useNeighbours (&neighbourhoods_.neighbours); // to find holes the walk missed
   return true;
 }
 
@@ -816,7 +806,6 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
     }
     const NeighbourSearch moved_search = searchAmong (moved.points, options);
     Conductor conductor (moved, moved_search, options);
-    conductor.runsOnProjections ();
     second = conductor.run ();
     report.stage_seconds.insert (report.stage_seconds.end (),
                                  second.report.stage_seconds.begin (),

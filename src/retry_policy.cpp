@@ -233,10 +233,9 @@ MeshFinisher::openMissedHoles (Triangles& triangles, FinishedMesh& finished) con
 {
   // Only on swapped meshes: the raw triangulation's long triangles near the outline
   // are the parameterization's, not holes.
-  if (closed_ || !options_.optimize || neighbours_ == nullptr || !(missed_hole_span_ > 0.0))
+  if (closed_ || !options_.optimize || neighbours_ == nullptr)
     return "";
-  const std::size_t regions =
-      meshless::openMissedHoles (points_, *neighbours_, triangles, missed_hole_span_);
+  const std::size_t regions = meshless::openMissedHoles (points_, *neighbours_, triangles);
   if (regions == 0)
     return "";
   finished.mesh = checkMesh (points_, triangles, check_);
@@ -246,7 +245,7 @@ MeshFinisher::openMissedHoles (Triangles& triangles, FinishedMesh& finished) con
       mesh.unused_vertices != 0 || mesh.boundary_loops != static_cast<std::size_t> (1 + holes) ||
       mesh.euler_characteristic != 1 - holes) {
     char span[32];
-    std::snprintf (span, sizeof span, "%g", missed_hole_span_);
+    std::snprintf (span, sizeof span, "%g", max_edge_over_spacing);
     return std::to_string (regions) + " region(s) of triangles with edges over " + span +
            " times their points' spacing span what look like holes whose rims the "
            "boundary walk missed, and removing them leaves no disc with holes (a ragged "

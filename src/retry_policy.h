@@ -60,15 +60,6 @@ public:
     neighbours_ = neighbours;
   }
 
-  /** \brief Disc topology: look for holes the boundary walk missed, among these
-    * neighbourhoods, at this span (see openMissedHoles). */
-  void
-  lookForMissedHoles (const CsrGraph* neighbours, double span)
-  {
-    neighbours_ = neighbours;
-    missed_hole_span_ = span;
-  }
-
   /** \return an empty string, or what is wrong with the finished mesh. */
   std::string
   finish (Triangles& triangles, const Normals& normals, FinishedMesh& finished);
@@ -113,7 +104,6 @@ private:
   const CurrentResult& current_;
   StageClock& clock_;
   const CsrGraph* neighbours_ = nullptr;
-  double missed_hole_span_ = 0.0; // 0: not looked for
   bool closed_;
   MeshCheckOptions check_;
   // Slots the repair and the swaps rewrite after a raw check that listed all its

@@ -49,10 +49,6 @@ findBoundaryLoops (const Points3& points,
   * stay well below it (doc/benchmarks.md). */
 constexpr double max_edge_over_spacing = 4.0;
 
-/** \brief The same on points projected onto surfaces fitted to noisy ones: the
-  * noise's part along the surface stays, and leaves their gaps wider. */
-constexpr double max_edge_over_spacing_projected = 5.0;
-
 /** \brief Cut open the holes the boundary walk missed: removes the triangles with an
   * edge longer than `max_span` (positive) times the larger spacing of its end
   * points (each point's mean distance to its six nearest in `neighbourhoods`;
