@@ -736,8 +736,14 @@ MeshReport::isSphereLike () const
 bool
 MeshReport::isDiscLike () const
 {
-  return isManifold () && isOriented () && components == 1 && boundary_loops == 1 &&
-         euler_characteristic == 1;
+  return isDiscWithHoles (0);
+}
+
+bool
+MeshReport::isDiscWithHoles (std::size_t holes) const
+{
+  return isManifold () && isOriented () && components == 1 && boundary_loops == 1 + holes &&
+         euler_characteristic == 1 - static_cast<long> (holes);
 }
 
 MeshReport

@@ -21,8 +21,7 @@ CurrentResult::adopt (FinishedMesh&& finished)
   report.raw_fold_repair = std::move (finished.raw_repair);
   report.fold_repair = std::move (finished.repair);
   report.mesh = std::move (finished.mesh);
-  // The walk's holes stay; those cut open are the finished mesh's.
-  report.holes = report.holes - report.holes_opened + finished.holes_opened;
+  report.holes = walkHoles () + finished.holes_opened;
   report.holes_opened = finished.holes_opened;
 }
 
@@ -190,15 +189,11 @@ MeshFinisher::verdict (Triangles& triangles, MeshReport& mesh, std::size_t holes
     mesh.signed_volume = -mesh.signed_volume;
   }
   const std::size_t n = points_.size ();
-  const long holes =
-      static_cast<long> (current_.report.holes - current_.report.holes_opened + holes_opened);
   const bool valid =
       closed_ ? closed_of_genus && genus >= 0 &&
                     static_cast<long> (triangles.size ()) == 2 * static_cast<long> (n) - 4 + 4 * genus &&
                     mesh.signed_volume > 0.0
-              : mesh.isManifold () && mesh.isOriented () && mesh.components == 1 &&
-                    mesh.boundary_loops == static_cast<std::size_t> (1 + holes) &&
-                    mesh.euler_characteristic == 1 - holes;
+              : mesh.isDiscWithHoles (current_.walkHoles () + holes_opened);
   if (!valid || mesh.unused_vertices != 0)
     return "the result failed its own check (a bug; please report it with the cloud): " +
            describe (mesh);
@@ -240,10 +235,7 @@ MeshFinisher::openMissedHoles (Triangles& triangles, FinishedMesh& finished) con
     return "";
   finished.mesh = checkMesh (points_, triangles, check_);
   const MeshReport& mesh = finished.mesh;
-  const long holes = static_cast<long> (current_.report.holes - current_.report.holes_opened + regions);
-  if (!mesh.isManifold () || !mesh.isOriented () || mesh.components != 1 ||
-      mesh.unused_vertices != 0 || mesh.boundary_loops != static_cast<std::size_t> (1 + holes) ||
-      mesh.euler_characteristic != 1 - holes) {
+  if (!mesh.isDiscWithHoles (current_.walkHoles () + regions) || mesh.unused_vertices != 0) {
     char span[32];
     std::snprintf (span, sizeof span, "%g", max_edge_over_spacing);
     return std::to_string (regions) + " region(s) of triangles with edges over " + span +

@@ -42,6 +42,14 @@ struct CurrentResult
 
   void
   adopt (FinishedMesh&& finished);
+
+  /** \brief Disc topology: the holes the boundary walk found (report.holes counts
+    * those cut open by the finished mesh too). */
+  std::size_t
+  walkHoles () const
+  {
+    return report.holes - report.holes_opened;
+  }
 };
 
 /** \brief Turns a raw triangulation into a checked result: the raw folds re-meshed,

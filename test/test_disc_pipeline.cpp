@@ -137,6 +137,22 @@ expectDiscWithHoles (Meshless& reconstruction, const pcl::PointCloud<pcl::PointX
   EXPECT_EQ (report.mesh.euler_characteristic, 1 - static_cast<long> (holes));
 }
 
+/** The class in disc mode on `cloud`: refused, no triangles, the message naming
+  * `cause`. */
+void
+expectRefused (Meshless& reconstruction, const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
+               const std::string& cause)
+{
+  reconstruction.setTopology (Meshless::Topology::Disc);
+  reconstruction.setInputCloud (cloud);
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  EXPECT_FALSE (reconstruction.getReport ().success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_NE (reconstruction.getReport ().message.find (cause), std::string::npos)
+      << reconstruction.getReport ().message;
+}
+
 /** A 40 x 40 grid of spacing 1 without the points within `hole_radius` of
   * (cx, cy), triangulated by 2D Delaunay: across the hole, triangles span it (up
   * to the convex hull where the hole reaches the grid's side). */
@@ -223,13 +239,7 @@ TEST (DiscPipeline, PclPartialViewsAreManifoldDiscs)
   EXPECT_FALSE (reconstruction.getReport ().smoothed);
 
   reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Off);
-  reconstruction.setInputCloud (milk);
-  std::vector<pcl::Vertices> polygons;
-  reconstruction.reconstruct (polygons);
-  EXPECT_FALSE (reconstruction.getReport ().success);
-  EXPECT_TRUE (polygons.empty ());
-  EXPECT_NE (reconstruction.getReport ().message.find ("too ragged to follow"), std::string::npos)
-      << reconstruction.getReport ().message;
+  expectRefused (reconstruction, milk, "too ragged to follow");
 
   reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::IfNoisy);
   expectDiscWithHoles (reconstruction, milk, 1);
@@ -319,16 +329,9 @@ TEST (DiscPipeline, NoisyOpenSurfacesWithHolesKeepTheirHolesOrAreRefused)
                            toCloud (sampleShape (SyntheticShape::HeightField, options)), holes);
     }
 
-  const auto noisy = toCloud (sampleShape (SyntheticShape::Disc, {5000, 1, 0.012}));
   Meshless reconstruction;
-  reconstruction.setTopology (Meshless::Topology::Disc);
-  reconstruction.setInputCloud (noisy);
-  std::vector<pcl::Vertices> polygons;
-  reconstruction.reconstruct (polygons);
-  EXPECT_FALSE (reconstruction.getReport ().success);
-  EXPECT_TRUE (polygons.empty ());
-  EXPECT_NE (reconstruction.getReport ().message.find ("too noisy to tell"), std::string::npos)
-      << reconstruction.getReport ().message;
+  expectRefused (reconstruction, toCloud (sampleShape (SyntheticShape::Disc, {5000, 1, 0.012})),
+                 "too noisy to tell");
 }
 
 TEST (DiscPipeline, FaceScanIsOneManifoldDiscThroughEveryPoint)

@@ -156,6 +156,11 @@ struct MeshReport : StageStatus
     * Euler characteristic 1. */
   bool
   isDiscLike () const;
+
+  /** \brief A disc with `holes` holes: manifold, consistently oriented, one
+    * component, 1 + holes boundary loops, Euler characteristic 1 - holes. */
+  bool
+  isDiscWithHoles (std::size_t holes) const;
 };
 
 /** \brief Checks a triangle mesh: topology, degeneracies, self-intersections, volume
