@@ -87,6 +87,7 @@ usage (const char* program)
       "  -noisy-median DEG          EdgeSwapOptions::noisy_median_dihedral_deg\n"
       "  -angles 0|1      EdgeSwapOptions::improve_angles\n"
       "  -longest 0|1     EdgeSwapOptions::descent_keeps_longest_edge\n"
+      "  -look-ahead N    EdgeSwapOptions::look_ahead_depth (0: off)\n"
       "  -intersections 0|1  EdgeSwapOptions::remove_self_intersections\n",
       program, default_clouds[0], default_clouds[1], default_clouds[2], default_clouds[3],
       default_clouds[4]);
@@ -231,6 +232,7 @@ describe (const meshless::EdgeSwapOptions& o)
          ", angle pass " + (o.improve_angles ? "on" : "off") +
          ", new edges no longer than their quad's longest " +
          (o.descent_keeps_longest_edge ? "on" : "off") +
+         ", look-ahead " + std::to_string (o.look_ahead_depth) + " swaps deep" +
          (o.max_swaps ? ", at most " + std::to_string (o.max_swaps) + " swaps" : "");
 }
 
@@ -420,7 +422,7 @@ const std::vector<meshless_tools::Flag> kFlags = {
     {"-size", true},        {"-timing-only", false},  {"-view", true},
     {"-cost", true},        {"-descent-min-dihedral", true},
     {"-noisy-median", true}, {"-longest", true},     {"-angles", true},
-    {"-intersections", true}};
+    {"-intersections", true}, {"-look-ahead", true}};
 
 /** The optimization options under test; the library's defaults where not given. */
 bool
@@ -430,10 +432,13 @@ readSwapOptions (CommandLine& line, meshless::EdgeSwapOptions& swaps)
       meshless::SwapCost::AngleBetweenNormals, meshless::SwapCost::IntegratedMeanCurvature,
       meshless::SwapCost::SquaredMeanCurvature, meshless::SwapCost::TotalAbsoluteCurvature};
   int cost = -1, longest = -1, angles = -1, intersections = -1;
+  int look_ahead = static_cast<int> (swaps.look_ahead_depth);
   if (!line.choose ("-cost", {"abn", "mean", "squared", "total"}, cost) ||
       !line.read ("-descent-min-dihedral", swaps.descent_min_dihedral_deg) ||
       !line.read ("-noisy-median", swaps.noisy_median_dihedral_deg) ||
       !line.choose ("-longest", {"0", "1"}, longest) ||
+      !line.read ("-look-ahead", look_ahead) ||
+      (look_ahead < 0 && !line.reject ("-look-ahead", "must be 0 or more")) ||
       !line.choose ("-angles", {"0", "1"}, angles) ||
       !line.choose ("-intersections", {"0", "1"}, intersections))
     return false;
@@ -441,6 +446,7 @@ readSwapOptions (CommandLine& line, meshless::EdgeSwapOptions& swaps)
     swaps.cost = costs[cost];
   if (longest >= 0)
     swaps.descent_keeps_longest_edge = longest == 1;
+  swaps.look_ahead_depth = static_cast<std::size_t> (look_ahead);
   if (angles >= 0)
     swaps.improve_angles = angles == 1;
   if (intersections >= 0)

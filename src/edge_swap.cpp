@@ -603,6 +603,12 @@ public:
     return swaps_;
   }
 
+  bool
+  swapLimitReached () const
+  {
+    return options_.max_swaps != 0 && swaps_ >= options_.max_swaps;
+  }
+
   /** Greedy descent: pops the best swap until none lowers the cost. */
   void
   descend ()
@@ -760,6 +766,215 @@ public:
     }
   }
 
+  /** Sequences of up to `depth` swaps, each on an edge of the triangles the
+    * previous one made, that together lower the cost although their first swap
+    * alone does not: the descent stops in such local minima where a few swaps
+    * must change together (a crease crossed by a fan instead of followed). Only
+    * for the per-edge costs; each step must be admissible, and a sequence is kept
+    * only if it adds no intersecting pair. Returns whether any sequence was kept. */
+  bool
+  lookAhead (std::size_t depth)
+  {
+    if (!perEdge () || depth < 2)
+      return false;
+    heap_live_ = false;
+    heap_ = {};
+    heap_stamp_.clear (); // a later descent prices everything afresh
+    if (terms_stale_)
+      totalCost ();
+    terms_live_ = true;
+    bool any = false;
+    // The first round starts from every edge; later ones only from the triangles
+    // that kept sequences or the descent rewrote since.
+    const bool everywhere = changed_.empty ();
+    std::vector<char> changed;
+    changed.swap (changed_);
+    changed_.assign (tri_.size (), 0);
+    const auto edges = static_cast<std::int32_t> (edge_he_.size ());
+    for (std::int32_t e = 0; e < edges && !swapLimitReached (); ++e) {
+      if (term_[e] < min_dihedral_ * weightOf (e))
+        continue;
+      const std::int32_t h = edge_he_[e];
+      if (!everywhere && !changed[h / 3] && !(opp_[h] >= 0 && changed[opp_[h] / 3]))
+        continue;
+      exploring_ = true;
+      path_.clear ();
+      const bool found = explore (h, depth, 0.0, term_[e]);
+      exploring_ = false;
+      if (found && keepPath ())
+        any = true;
+    }
+    terms_live_ = false;
+    return any;
+  }
+
+private:
+  /** One step of lookAhead: swaps the edge of h, stops if the sequence so far
+    * lowers the cost, else tries the new triangles' outer edges, else swaps back.
+    * Outside the intersection bookkeeping (exploring_): keepPath checks the
+    * sequence found. */
+  bool
+  explore (std::int32_t h, std::size_t remaining, double so_far, double scale)
+  {
+    Quad q;
+    if (!quadOf (h, q) || !feasible (q))
+      return false;
+    double local = 0.0;
+    const double change = so_far + edgeCostChange (q, local);
+    // A first swap that lowers the cost alone is one the descent's rules refused.
+    if ((path_.empty () && change < -1e-9 * scale) || (remaining == 1 && change >= -1e-9 * scale))
+      return false;
+    saved_.emplace_back ();
+    save (q, saved_.back ());
+    applySwap (q, 0);
+    path_.push_back ({q.a, q.b, q.c, q.d});
+    if (change < -1e-9 * scale)
+      return true;
+    // By their ends: a step that is undone may leave its triangles in each other's
+    // slots.
+    const std::array<std::pair<std::int32_t, std::int32_t>, 4> sides{
+        std::make_pair (q.c, q.a), std::make_pair (q.a, q.d), std::make_pair (q.d, q.b),
+        std::make_pair (q.b, q.c)};
+    for (const auto& [u, w] : sides) {
+      const std::int32_t side = halfEdge (u, w);
+      if (side >= 0 && explore (side, remaining - 1, change, scale + term_[edge_of_[side]]))
+        return true;
+    }
+    path_.pop_back ();
+    restore (saved_.back ());
+    saved_.pop_back ();
+    return false;
+  }
+
+  /** What a swap of q writes, to be put back exactly (same slots, same half-edges)
+    * while the grid does not follow. */
+  struct Saved
+  {
+    std::int32_t t0, t1;
+    std::array<Triangle, 2> triangle;
+    std::array<std::int32_t, 6> opp, edge_of;
+    std::array<std::pair<std::int32_t, std::int32_t>, 4> twin_opp;
+    std::array<std::pair<std::int32_t, std::int32_t>, 5> edge_he;
+    std::array<std::pair<std::int32_t, std::int32_t>, 4> vert_he;
+    std::array<Vec3, 2> normal;
+    std::array<double, 5> term;
+  };
+
+  void
+  save (const Quad& q, Saved& s) const
+  {
+    s.t0 = q.t0;
+    s.t1 = q.t1;
+    s.triangle = {tri_[q.t0], tri_[q.t1]};
+    for (int i = 0; i < 3; ++i) {
+      s.opp[i] = opp_[3 * q.t0 + i];
+      s.opp[3 + i] = opp_[3 * q.t1 + i];
+      s.edge_of[i] = edge_of_[3 * q.t0 + i];
+      s.edge_of[3 + i] = edge_of_[3 * q.t1 + i];
+    }
+    const std::array<std::size_t, 4> outer{prev (q.h), next (q.h), prev (q.g), next (q.g)};
+    for (int i = 0; i < 4; ++i) {
+      const std::int32_t twin = opp_[outer[i]];
+      s.twin_opp[i] = {twin, twin >= 0 ? opp_[twin] : -1};
+      const std::int32_t e = edge_of_[outer[i]];
+      s.edge_he[i] = {e, edge_he_[e]};
+      s.term[i] = term_[e];
+    }
+    const std::int32_t inner = edge_of_[q.h];
+    s.edge_he[4] = {inner, edge_he_[inner]};
+    s.term[4] = term_[inner];
+    int k = 0;
+    for (const std::int32_t v : {q.a, q.b, q.c, q.d})
+      s.vert_he[k++] = {v, vert_he_[v]};
+    s.normal = {unit_normal_[q.t0], unit_normal_[q.t1]};
+  }
+
+  void
+  restore (const Saved& s)
+  {
+    tri_[s.t0] = s.triangle[0];
+    tri_[s.t1] = s.triangle[1];
+    for (int i = 0; i < 3; ++i) {
+      opp_[3 * s.t0 + i] = s.opp[i];
+      opp_[3 * s.t1 + i] = s.opp[3 + i];
+      edge_of_[3 * s.t0 + i] = s.edge_of[i];
+      edge_of_[3 * s.t1 + i] = s.edge_of[3 + i];
+    }
+    for (const auto& [twin, value] : s.twin_opp)
+      if (twin >= 0)
+        opp_[twin] = value;
+    for (int i = 0; i < 5; ++i) {
+      edge_he_[s.edge_he[i].first] = s.edge_he[i].second;
+      term_[s.edge_he[i].first] = s.term[i];
+    }
+    for (const auto& [v, h] : s.vert_he)
+      vert_he_[v] = h;
+    unit_normal_[s.t0] = s.normal[0];
+    unit_normal_[s.t1] = s.normal[1];
+    --swaps_;
+  }
+
+  /** Swaps the edge u-w (the diagonal of a quad) back to the quad's other diagonal,
+    * with the intersection bookkeeping unless exploring. */
+  void
+  swapBack (std::int32_t u, std::int32_t w)
+  {
+    Quad back;
+    quadOf (halfEdge (u, w), back);
+    std::size_t pairs = 0;
+    if (grid_ && !exploring_) {
+      const auto [before, after] = intersectionChange (back);
+      intersections_ += after;
+      intersections_ -= before;
+      pairs = after;
+    }
+    applySwap (back, pairs);
+  }
+
+  /** The sequence explore found, put back and made again under the intersection
+    * bookkeeping; undone if it adds intersecting pairs. Returns whether it was
+    * kept. */
+  bool
+  keepPath ()
+  {
+    while (!saved_.empty ()) {
+      restore (saved_.back ());
+      saved_.pop_back ();
+    }
+    std::ptrdiff_t added = 0;
+    for (const auto& step : path_) {
+      Quad q;
+      quadOf (halfEdge (step[0], step[1]), q);
+      std::size_t pairs = 0;
+      if (grid_) {
+        const auto [before, after] = intersectionChange (q);
+        added += static_cast<std::ptrdiff_t> (after) - static_cast<std::ptrdiff_t> (before);
+        intersections_ += after;
+        intersections_ -= before;
+        pairs = after;
+      }
+      applySwap (q, pairs);
+      changed_[q.t0] = changed_[q.t1] = 1;
+    }
+    if (added <= 0)
+      return true;
+    for (auto step = path_.rbegin (); step != path_.rend (); ++step)
+      swapBack ((*step)[2], (*step)[3]);
+    return false;
+  }
+
+  /** The half-edge u->w, or -1. */
+  std::int32_t
+  halfEdge (std::int32_t u, std::int32_t w) const
+  {
+    std::int32_t found = -1;
+    forEachOutgoing (u, [&] (std::size_t h) {
+      if (to (h) == w)
+        found = static_cast<std::int32_t> (h);
+    });
+    return found;
+  }
+
 private:
   struct Entry
   {
@@ -878,12 +1093,6 @@ private:
       if (to (h) == w || from (prev (h)) == w)
         return true;
     }
-  }
-
-  bool
-  swapLimitReached () const
-  {
-    return options_.max_swaps != 0 && swaps_ >= options_.max_swaps;
   }
 
   /** Calls visit (h) for the outgoing half-edges h of v in counter-clockwise order,
@@ -1307,13 +1516,13 @@ private:
       edge[i] = edge_of_[outer[i]];
     }
     const std::int32_t inner = edge_of_[q.h];
-    if (grid_)
+    if (grid_ && !exploring_)
       leaveGrid (q);
     // New triangles (c, a, d) and (d, b, c): half-edges c->a, a->d, d->c and
     // d->b, b->c, c->d.
     tri_[q.t0] = {q.c, q.a, q.d};
     tri_[q.t1] = {q.d, q.b, q.c};
-    if (rewritten_)
+    if (rewritten_ && !exploring_)
       (*rewritten_)[q.t0] = (*rewritten_)[q.t1] = 1;
     const std::array<std::int32_t, 4> slot{3 * q.t0, 3 * q.t0 + 1, 3 * q.t1, 3 * q.t1 + 1};
     for (int i = 0; i < 4; ++i) {
@@ -1338,18 +1547,21 @@ private:
     keep (q.b, 3 * q.t1 + 1);
     updateNormal (q.t0);
     updateNormal (q.t1);
-    if (grid_)
+    if (grid_ && !exploring_)
       enterGrid (q, pairs);
     ++swaps_;
-    if (!heap_live_) {
-      terms_stale_ = true; // only totalCost reads them now: refreshed there, once
-      return;
-    }
-    if (perEdge ()) {
+    if (perEdge () && (heap_live_ || terms_live_)) {
       term_[inner] = edgeTerm (inner);
       for (const std::int32_t e : edge)
         term_[e] = edgeTerm (e);
     }
+    if (!heap_live_) {
+      if (!terms_live_)
+        terms_stale_ = true; // only totalCost reads them now: refreshed there, once
+      return;
+    }
+    if (!changed_.empty ()) // the next look-ahead round starts here too
+      changed_[q.t0] = changed_[q.t1] = 1;
     ++round_;
     const auto update = [this] (std::size_t h) {
       const std::int32_t e = edge_of_[h];
@@ -1412,6 +1624,18 @@ private:
   std::vector<Vec3> offset_;
   /** Whether applySwap re-prices the edges around a swap (during the descent). */
   bool heap_live_ = false;
+  /** Per triangle, after a look-ahead round: rewritten since (by a kept sequence or
+    * the descent). Empty before the first round. */
+  std::vector<char> changed_;
+  /** Whether applySwap keeps term_ current without a heap (the look-ahead). */
+  bool terms_live_ = false;
+  /** Whether explore is trying swaps: applySwap leaves the grid and `rewritten`
+    * alone, and restore puts the triangles back exactly. */
+  bool exploring_ = false;
+  /** The swaps explore has made, as (a, b, c, d) of their quads, and what each
+    * overwrote. */
+  std::vector<std::array<std::int32_t, 4>> path_;
+  std::vector<Saved> saved_;
   /** Whether term_ lags behind swaps made outside the descent. */
   bool terms_stale_ = false;
   std::priority_queue<Entry> heap_;
@@ -1540,6 +1764,13 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     };
     optimizer.descend ();
     count (result.descent_swaps);
+    // Each kept sequence strictly lowers the cost, so this ends.
+    if (!result.noisy)
+      while (!optimizer.swapLimitReached () && optimizer.lookAhead (options.look_ahead_depth)) {
+        count (result.look_ahead_swaps);
+        optimizer.descend ();
+        count (result.descent_swaps);
+      }
     // Each round of targeted swaps strictly lowers the number of intersecting pairs
     // and the descent never raises it, so this ends.
     while (options.remove_self_intersections && optimizer.removeIntersections ()) {

@@ -2,6 +2,7 @@
  * Software License Agreement (BSD License)
  *  pcl_spherical_meshless - see LICENSE.
  */
+#include <pcl/surface/meshless/delaunay_2d.h>
 #include <pcl/surface/meshless/edge_swap.h>
 #include <pcl/surface/meshless/mesh_checks.h>
 #include <meshless_tools/mesh_distance.h>
@@ -235,6 +236,92 @@ TEST (EdgeSwap, RidgeEdgesAppearInHeightField)
     EXPECT_TRUE (checkMesh (points, work).isDiscLike ());
     expectSameTopology (points, input, work);
   }
+}
+
+TEST (EdgeSwap, LookAheadFollowsCreases)
+{
+  // Random points on two planes meeting at a crease (ridges and a valley, at an
+  // angle to the axes), triangulated by the Delaunay triangulation of their
+  // projection: fans of triangles cross the crease and cut it off. The descent
+  // alone stops where several swaps must change together; the look-ahead goes on
+  // to a lower cost and brings the triangles nearer the surface.
+  double sum_descent = 0.0, sum_look_ahead = 0.0;
+  for (const double slope : {0.6, -0.8, 1.0})
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+      SCOPED_TRACE ("slope " + std::to_string (slope) + " seed " + std::to_string (seed));
+      std::mt19937 random (seed);
+      std::uniform_real_distribution<double> coordinate (-1.0, 1.0);
+      const Eigen::Vector2d across (std::cos (0.4), std::sin (0.4));
+      Points2 flat (600);
+      Points3 points;
+      for (auto& q : flat) {
+        q = Eigen::Vector2d (coordinate (random), coordinate (random));
+        points.emplace_back (q.x (), q.y (), -slope * std::abs (q.dot (across)));
+      }
+      // Distance to the two half-planes, in the plane of `across` and z.
+      const auto distance = [&] (const Eigen::Vector3d& p) {
+        const Eigen::Vector2d uz (p.head<2> ().dot (across), p.z ());
+        double best = uz.norm ();
+        for (const double side : {1.0, -1.0}) {
+          const Eigen::Vector2d ray = Eigen::Vector2d (side, -slope).normalized ();
+          const double along = uz.dot (ray);
+          if (along > 0.0)
+            best = std::min (best, (uz - along * ray).norm ());
+        }
+        return best;
+      };
+      const Delaunay2DResult delaunay = delaunay2D (flat);
+      ASSERT_TRUE (delaunay.success) << delaunay.message;
+      const double spacing = 2.0 / std::sqrt (600.0);
+      // Largest distance of a centroid or edge midpoint, in spacings, away from the
+      // square's sides (the convex hull's slivers there are the same in all runs).
+      const auto farthest = [&] (const Triangles& triangles) {
+        double far = 0.0;
+        for (const Triangle& t : triangles) {
+          const Eigen::Vector3d &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
+          if (std::max ({a.head<2> ().lpNorm<Eigen::Infinity> (), b.head<2> ().lpNorm<Eigen::Infinity> (),
+                         c.head<2> ().lpNorm<Eigen::Infinity> ()}) > 0.8)
+            continue;
+          for (const Eigen::Vector3d& q : {Eigen::Vector3d ((a + b + c) / 3.0), Eigen::Vector3d ((a + b) / 2.0),
+                                           Eigen::Vector3d ((b + c) / 2.0), Eigen::Vector3d ((c + a) / 2.0)})
+            far = std::max (far, distance (q));
+        }
+        return far / spacing;
+      };
+      const auto optimize = [&] (const EdgeSwapOptions& options, Triangles& work) {
+        work = delaunay.triangles;
+        const EdgeSwapResult result = optimizeBySwaps (points, work, options);
+        EXPECT_TRUE (result.success) << result.message;
+        expectSameTopology (points, delaunay.triangles, work);
+        EXPECT_EQ (result.self_intersections_after, 0u);
+        return result;
+      };
+      // The descent and the look-ahead alone.
+      EdgeSwapOptions descent;
+      descent.improve_angles = false;
+      descent.look_ahead_depth = 0;
+      EdgeSwapOptions look_ahead = descent;
+      look_ahead.look_ahead_depth = 4;
+      Triangles by_descent, by_look_ahead;
+      const EdgeSwapResult r0 = optimize (descent, by_descent);
+      const EdgeSwapResult r1 = optimize (look_ahead, by_look_ahead);
+      EXPECT_GT (r1.look_ahead_swaps, 0u);
+      EXPECT_LT (r1.cost_after, 0.9 * r0.cost_after);
+      EXPECT_LE (farthest (by_look_ahead), farthest (by_descent));
+      sum_descent += farthest (by_descent);
+      sum_look_ahead += farthest (by_look_ahead);
+      // All passes: the angle pass runs last and makes quads that turn less than
+      // its bound locally Delaunay again, so here it undoes most of that; the
+      // look-ahead must not leave the mesh farther from the surface.
+      Triangles by_defaults;
+      optimize (EdgeSwapOptions (), by_defaults);
+      EdgeSwapOptions without = EdgeSwapOptions ();
+      without.look_ahead_depth = 0;
+      Triangles by_without;
+      optimize (without, by_without);
+      EXPECT_LE (farthest (by_defaults), farthest (by_without));
+    }
+  EXPECT_LT (sum_look_ahead, 0.6 * sum_descent);
 }
 
 TEST (EdgeSwap, DescentMakesNoEdgeLongerThanItsQuad)
@@ -486,8 +573,8 @@ TEST (EdgeSwap, PassesAreCountedSeparately)
   const EdgeSwapResult result = optimizeBySwaps (points, triangles);
   ASSERT_TRUE (result.success) << result.message;
   EXPECT_GT (result.descent_swaps, 0u);
-  EXPECT_EQ (result.swaps,
-             result.descent_swaps + result.intersection_swaps + result.angle_swaps);
+  EXPECT_EQ (result.swaps, result.descent_swaps + result.look_ahead_swaps +
+                               result.intersection_swaps + result.angle_swaps);
 }
 
 TEST (EdgeSwap, NoisyInputStaysCloseToTheSurface)

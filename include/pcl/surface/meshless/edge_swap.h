@@ -102,6 +102,20 @@ struct SwapRules
     * largest distance to the surface down and the angles up. Applies to the cost
     * descent only. */
   bool descent_keeps_longest_edge = true;
+  /** \brief Default: 4. After the descent, sequences of up to this many swaps, each
+    * on an edge of the two triangles the one before made, that lower the cost
+    * together although the first alone does not; made one at a time, each followed
+    * by the descent, until none is found (0 or 1: none). The greedy descent stops
+    * where a few swaps must change together: a crease crossed by fans of triangles
+    * instead of followed by an edge, whose chords lie off the surface. A sequence
+    * starts at an edge the descent looks at (descent_min_dihedral_deg), each step
+    * must be admissible, and it is kept only if it adds no intersecting pair; it is
+    * not held to descent_keeps_longest_edge (an edge along a crease is often longer
+    * than the quads it crosses). Per-edge costs only; not on noisy input
+    * (noisy_median_dihedral_deg), where the descent itself is held back; the
+    * class's disc topology does not use it (it would re-triangulate gaps whose
+    * long edges the hole cut looks for). */
+  std::size_t look_ahead_depth = 4;
   /** \brief Default: 60. Quads turning more than this (degrees) are left alone by
     * the angle pass, but for angle_pass_unfolds_steep_quads. A low bound leaves the
     * descent's slivers on curved parts, whose chords lie off the surface; much above
@@ -150,9 +164,11 @@ struct EdgeSwapResult : StageStatus
 {
   /** \brief Swaps performed (all passes). */
   std::size_t swaps = 0;
-  /** \brief Of those, made by the cost descent, by the targeted removal of
-    * intersections and by the angle pass. */
-  std::size_t descent_swaps = 0, intersection_swaps = 0, angle_swaps = 0;
+  /** \brief Of those, made by the cost descent, by the look-ahead's sequences
+    * (SwapRules::look_ahead_depth; their swaps made again under the intersection
+    * bookkeeping and those undone because they added pairs counted too), by the
+    * targeted removal of intersections and by the angle pass. */
+  std::size_t descent_swaps = 0, look_ahead_swaps = 0, intersection_swaps = 0, angle_swaps = 0;
   /** \brief Total cost (options.cost) of the input and of the output. */
   double cost_before = 0.0, cost_after = 0.0;
   /** \brief Self-intersecting triangle pairs (as checkMesh counts them) of the input
