@@ -777,9 +777,9 @@ public:
   {
     if (!perEdge () || depth < 2)
       return false;
+    // The descent has emptied its heap; it is refilled below around the changes
+    // only (every other edge's price is as the descent left it).
     heap_live_ = false;
-    heap_ = {};
-    heap_stamp_.clear (); // a later descent prices everything afresh
     if (terms_stale_)
       totalCost ();
     terms_live_ = true;
@@ -805,6 +805,24 @@ public:
         any = true;
     }
     terms_live_ = false;
+    if (!heap_stamp_.empty ()) {
+      ++round_;
+      const auto update = [this] (std::size_t h) {
+        const std::int32_t e = edge_of_[h];
+        if (seen_[e] != round_) {
+          seen_[e] = round_;
+          push (e);
+        }
+      };
+      for (std::size_t t = 0; t < tri_.size (); ++t)
+        if (changed_[t])
+          for (std::size_t h = 3 * t; h < 3 * t + 3; ++h) {
+            update (h);
+            if (opp_[h] >= 0)
+              for (const std::size_t x : {static_cast<std::size_t> (opp_[h]), next (opp_[h]), prev (opp_[h])})
+                update (x);
+          }
+    }
     return any;
   }
 
@@ -817,12 +835,13 @@ private:
   explore (std::int32_t h, std::size_t remaining, double so_far, double scale)
   {
     Quad q;
-    if (!quadOf (h, q) || !feasible (q))
+    if (!quadOf (h, q) || q.c == q.d)
       return false;
     double local = 0.0;
     const double change = so_far + edgeCostChange (q, local);
     // A first swap that lowers the cost alone is one the descent's rules refused.
-    if ((path_.empty () && change < -1e-9 * scale) || (remaining == 1 && change >= -1e-9 * scale))
+    if ((path_.empty () && change < -1e-9 * scale) || (remaining == 1 && change >= -1e-9 * scale) ||
+        !feasible (q))
       return false;
     saved_.emplace_back ();
     save (q, saved_.back ());
