@@ -21,6 +21,7 @@
 
 #include <malloc.h>
 
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -106,10 +107,30 @@ struct MethodResult
   std::optional<double> memory_mb;
   pcl::meshless::MeshReport report;
   std::optional<pcl::meshless::MeshDistanceReport> distance;
+  /** The longest edge over the median edge: a triangle across a gap or a crease. */
+  double longest_over_median = 0.0;
   /** The positions the triangles run through, where not the input's (a noisy
     * cloud's projections). */
   pcl::PointCloud<pcl::PointXYZ>::ConstPtr positions;
 };
+
+double
+longestOverMedianEdge (const pcl::meshless::Points3& vertices,
+                       const pcl::meshless::Triangles& triangles)
+{
+  std::vector<double> lengths;
+  lengths.reserve (3 * triangles.size ());
+  for (const auto& t : triangles)
+    for (int k = 0; k < 3; ++k)
+      lengths.push_back ((vertices[t[k]] - vertices[t[(k + 1) % 3]]).norm ());
+  if (lengths.empty ())
+    return 0.0;
+  const auto middle = lengths.begin () + static_cast<std::ptrdiff_t> (lengths.size () / 2);
+  std::nth_element (lengths.begin (), middle, lengths.end ());
+  const double median = *middle;
+  const double longest = *std::max_element (lengths.begin (), lengths.end ());
+  return median > 0.0 ? longest / median : 0.0;
+}
 
 void
 printTable (const std::vector<MethodResult>& results, bool with_reference)
@@ -117,31 +138,32 @@ printTable (const std::vector<MethodResult>& results, bool with_reference)
   std::printf ("\n| method | time | peak memory | triangles | vertices used / unused | "
                "boundary edges / loops | non-manifold edges / vertices | components | "
                "Euler / genus | inconsistent edges | self-intersecting pairs | "
-               "mean smallest angle |");
+               "mean smallest angle | longest / median edge |");
   if (with_reference)
-    std::printf (" distance mean / p99 / max | normal deviation |");
-  std::printf ("\n|---|---|---|---|---|---|---|---|---|---|---|---|");
+    std::printf (" distance mean / p99 / max | largest from the mesh | normal deviation |");
+  std::printf ("\n|---|---|---|---|---|---|---|---|---|---|---|---|---|");
   if (with_reference)
-    std::printf ("---|---|");
+    std::printf ("---|---|---|");
   std::printf ("\n");
   for (const MethodResult& r : results) {
     const pcl::meshless::MeshReport& m = r.report;
     std::printf (
         "| %s | %.2f s | %s | %zu | %zu / %zu | %zu / %zu | %zu / %zu | %zu | %ld / %s "
-        "| %zu | %zu | %.1f deg |",
+        "| %zu | %zu | %.1f deg | %.1f |",
         r.name.c_str (), r.seconds,
         r.memory_mb ? format ("%.0f MB", *r.memory_mb).c_str () : "n/a",
         m.num_triangles, m.used_vertices, m.unused_vertices, m.boundary_edges,
         m.boundary_loops, m.non_manifold_edges, m.non_manifold_vertices, m.components,
         m.euler_characteristic, m.genus < 0 ? "-" : std::to_string (m.genus).c_str (),
-        m.inconsistent_edges, m.self_intersecting_pairs, m.mean_min_angle_deg);
+        m.inconsistent_edges, m.self_intersecting_pairs, m.mean_min_angle_deg,
+        r.longest_over_median);
     if (with_reference) {
       if (r.distance && r.distance->success)
-        std::printf (" %.2e / %.2e / %.2e | %.1f deg |", r.distance->two_sided.mean,
+        std::printf (" %.2e / %.2e / %.2e | %.2e | %.1f deg |", r.distance->two_sided.mean,
                      r.distance->two_sided.p99, r.distance->two_sided.max,
-                     r.distance->normal_deviation_deg);
+                     r.distance->to_reference.max, r.distance->normal_deviation_deg);
       else
-        std::printf (" - | - |");
+        std::printf (" - | - | - |");
     }
     std::printf ("\n");
   }
@@ -329,6 +351,7 @@ run (int argc, char** argv)
     pcl::toPCLPointCloud2 (points, r.mesh.cloud);
     const pcl::meshless::Triangles triangles = toTriangles (r.mesh);
     r.report = pcl::meshless::checkMesh (vertices, triangles);
+    r.longest_over_median = longestOverMedianEdge (vertices, triangles);
     if (!with_reference)
       continue;
     r.distance = pcl::meshless::compareToReference (
