@@ -766,107 +766,57 @@ public:
     }
   }
 
-  /** Sequences of up to `depth` swaps, each on an edge of the triangles the
-    * previous one made, that together lower the cost although their first swap
-    * alone does not: the descent stops in such local minima where a few swaps
-    * must change together (a crease crossed by a fan instead of followed). Only
-    * for the per-edge costs; each step must be admissible, and a sequence is kept
-    * only if it adds no intersecting pair. Returns whether any sequence was kept. */
+  /** One round of the look-ahead (SwapRules::look_ahead_depth): sequences of up
+    * to `depth` swaps, each on an outer edge of the two triangles the one before
+    * made, that lower the cost together although their first swap alone does not
+    * (the greedy descent stops where a few swaps must change together: a crease
+    * crossed by fans instead of followed). The first round starts from every edge
+    * the descent looks at, later ones from the triangles the last round and the
+    * descent rewrote. Each step must be admissible; a sequence found is made again
+    * under the intersection bookkeeping and undone if it adds pairs. Per-edge costs
+    * only. Returns whether a sequence was kept; the next descent prices every edge
+    * afresh. */
   bool
   lookAhead (std::size_t depth)
   {
     if (!perEdge () || depth < 2)
       return false;
-    // The descent has emptied its heap; it is refilled below around the changes
-    // only (every other edge's price is as the descent left it).
     heap_live_ = false;
+    heap_ = {};
+    heap_stamp_.clear ();
     if (terms_stale_)
       totalCost ();
     terms_live_ = true;
-    bool any = false;
-    // The first round starts from every edge; later ones only from the triangles
-    // that kept sequences or the descent rewrote since.
     const bool everywhere = changed_.empty ();
-    std::vector<char> changed;
-    changed.swap (changed_);
+    std::vector<char> start;
+    start.swap (changed_);
     changed_.assign (tri_.size (), 0);
+    bool any = false;
     const auto edges = static_cast<std::int32_t> (edge_he_.size ());
-    for (std::int32_t e = 0; e < edges && !swapLimitReached (); ++e) {
+    for (std::int32_t e = 0; e < edges; ++e) {
+      // A sequence and its replay add at most 2 depth swaps before they settle.
+      if (options_.max_swaps != 0 && swaps_ + 2 * depth > options_.max_swaps)
+        break;
       if (term_[e] < min_dihedral_ * weightOf (e))
         continue;
       const std::int32_t h = edge_he_[e];
-      if (!everywhere && !changed[h / 3] && !(opp_[h] >= 0 && changed[opp_[h] / 3]))
+      if (!everywhere && !start[h / 3] && !(opp_[h] >= 0 && start[opp_[h] / 3]))
         continue;
       exploring_ = true;
-      path_.clear ();
-      const bool found = explore (h, depth, 0.0, term_[e]);
+      const bool found = explore (h, depth, 0.0, 0.0);
       exploring_ = false;
       if (found && keepPath ())
         any = true;
+      path_.clear ();
+      saved_.clear ();
     }
     terms_live_ = false;
-    if (!heap_stamp_.empty ()) {
-      ++round_;
-      const auto update = [this] (std::size_t h) {
-        const std::int32_t e = edge_of_[h];
-        if (seen_[e] != round_) {
-          seen_[e] = round_;
-          push (e);
-        }
-      };
-      for (std::size_t t = 0; t < tri_.size (); ++t)
-        if (changed_[t])
-          for (std::size_t h = 3 * t; h < 3 * t + 3; ++h) {
-            update (h);
-            if (opp_[h] >= 0)
-              for (const std::size_t x : {static_cast<std::size_t> (opp_[h]), next (opp_[h]), prev (opp_[h])})
-                update (x);
-          }
-    }
     return any;
   }
 
 private:
-  /** One step of lookAhead: swaps the edge of h, stops if the sequence so far
-    * lowers the cost, else tries the new triangles' outer edges, else swaps back.
-    * Outside the intersection bookkeeping (exploring_): keepPath checks the
-    * sequence found. */
-  bool
-  explore (std::int32_t h, std::size_t remaining, double so_far, double scale)
-  {
-    Quad q;
-    if (!quadOf (h, q) || q.c == q.d)
-      return false;
-    double local = 0.0;
-    const double change = so_far + edgeCostChange (q, local);
-    // A first swap that lowers the cost alone is one the descent's rules refused.
-    if ((path_.empty () && change < -1e-9 * scale) || (remaining == 1 && change >= -1e-9 * scale) ||
-        !feasible (q))
-      return false;
-    saved_.emplace_back ();
-    save (q, saved_.back ());
-    applySwap (q, 0);
-    path_.push_back ({q.a, q.b, q.c, q.d});
-    if (change < -1e-9 * scale)
-      return true;
-    // By their ends: a step that is undone may leave its triangles in each other's
-    // slots.
-    const std::array<std::pair<std::int32_t, std::int32_t>, 4> sides{
-        std::make_pair (q.c, q.a), std::make_pair (q.a, q.d), std::make_pair (q.d, q.b),
-        std::make_pair (q.b, q.c)};
-    for (const auto& [u, w] : sides) {
-      const std::int32_t side = halfEdge (u, w);
-      if (side >= 0 && explore (side, remaining - 1, change, scale + term_[edge_of_[side]]))
-        return true;
-    }
-    path_.pop_back ();
-    restore (saved_.back ());
-    saved_.pop_back ();
-    return false;
-  }
-
-  /** What a swap of q writes, to be put back exactly (same slots, same half-edges)
-    * while the grid does not follow. */
+  /** What a swap writes, put back exactly by restore (same triangle slots, which
+    * the intersection grid is keyed by, same half-edges). */
   struct Saved
   {
     std::int32_t t0, t1;
@@ -878,6 +828,40 @@ private:
     std::array<Vec3, 2> normal;
     std::array<double, 5> term;
   };
+
+  /** One step of lookAhead: swaps the edge of h (outside the intersection
+    * bookkeeping) and stops if the sequence so far lowers the cost; else tries the
+    * new triangles' outer edges; else puts the quad back. `scale` sums the costs
+    * the steps acted on, the scale of the rounding tolerance. */
+  bool
+  explore (std::int32_t h, std::size_t remaining, double so_far, double scale)
+  {
+    Quad q;
+    if (!quadOf (h, q) || q.c == q.d)
+      return false;
+    double local = 0.0;
+    const double change = so_far + edgeCostChange (q, local);
+    scale += local;
+    const bool lower = change < -1e-9 * scale;
+    // A first swap that lowers the cost alone is one the descent's rules refused.
+    if ((path_.empty () && lower) || (remaining == 1 && !lower) || !feasible (q))
+      return false;
+    saved_.emplace_back ();
+    save (q, saved_.back ());
+    applySwap (q, 0);
+    path_.push_back ({q.a, q.b, q.c, q.d});
+    if (lower)
+      return true;
+    // The outer edges of the new triangles (c, a, d) and (d, b, c); a step tried
+    // below and not kept is put back into the same slots.
+    for (const std::int32_t side : {3 * q.t0, 3 * q.t0 + 1, 3 * q.t1, 3 * q.t1 + 1})
+      if (explore (side, remaining - 1, change, scale))
+        return true;
+    path_.pop_back ();
+    restore (saved_.back ());
+    saved_.pop_back ();
+    return false;
+  }
 
   void
   save (const Quad& q, Saved& s) const
@@ -933,68 +917,59 @@ private:
     --swaps_;
   }
 
-  /** Swaps the edge u-w (the diagonal of a quad) back to the quad's other diagonal,
-    * with the intersection bookkeeping unless exploring. */
-  void
-  swapBack (std::int32_t u, std::int32_t w)
-  {
-    Quad back;
-    quadOf (halfEdge (u, w), back);
-    std::size_t pairs = 0;
-    if (grid_ && !exploring_) {
-      const auto [before, after] = intersectionChange (back);
-      intersections_ += after;
-      intersections_ -= before;
-      pairs = after;
-    }
-    applySwap (back, pairs);
-  }
-
   /** The sequence explore found, put back and made again under the intersection
-    * bookkeeping; undone if it adds intersecting pairs. Returns whether it was
-    * kept. */
+    * bookkeeping; undone if it adds intersecting pairs on balance. Returns whether
+    * it was kept. */
   bool
   keepPath ()
   {
-    while (!saved_.empty ()) {
-      restore (saved_.back ());
-      saved_.pop_back ();
-    }
+    for (auto saved = saved_.rbegin (); saved != saved_.rend (); ++saved)
+      restore (*saved);
     std::ptrdiff_t added = 0;
-    for (const auto& step : path_) {
-      Quad q;
-      quadOf (halfEdge (step[0], step[1]), q);
-      std::size_t pairs = 0;
-      if (grid_) {
-        const auto [before, after] = intersectionChange (q);
-        added += static_cast<std::ptrdiff_t> (after) - static_cast<std::ptrdiff_t> (before);
-        intersections_ += after;
-        intersections_ -= before;
-        pairs = after;
-      }
-      applySwap (q, pairs);
+    for (const auto& [a, b, c, d] : path_) {
+      const Quad q = quadBetween (a, b);
+      added += applyCounted (q);
       changed_[q.t0] = changed_[q.t1] = 1;
     }
     if (added <= 0)
       return true;
     for (auto step = path_.rbegin (); step != path_.rend (); ++step)
-      swapBack ((*step)[2], (*step)[3]);
+      applyCounted (quadBetween ((*step)[2], (*step)[3]));
     return false;
   }
 
-  /** The half-edge u->w, or -1. */
-  std::int32_t
-  halfEdge (std::int32_t u, std::int32_t w) const
+  /** Makes the admissible swap q whatever it does to the intersecting pairs, and
+    * returns the change in their number (0 without intersection bookkeeping). */
+  std::ptrdiff_t
+  applyCounted (const Quad& q)
+  {
+    std::size_t pairs = 0;
+    std::ptrdiff_t change = 0;
+    if (grid_) {
+      const auto [before, after] = intersectionChange (q);
+      change = static_cast<std::ptrdiff_t> (after) - static_cast<std::ptrdiff_t> (before);
+      intersections_ = intersections_ + after - before;
+      pairs = after;
+    }
+    applySwap (q, pairs);
+    return change;
+  }
+
+  /** The quad whose diagonal is the edge u-w. keepPath replays swaps from the
+    * states explore made them in, so the edge is there and interior. */
+  Quad
+  quadBetween (std::int32_t u, std::int32_t w) const
   {
     std::int32_t found = -1;
     forEachOutgoing (u, [&] (std::size_t h) {
       if (to (h) == w)
         found = static_cast<std::int32_t> (h);
     });
-    return found;
+    Quad q;
+    quadOf (found, q);
+    return q;
   }
 
-private:
   struct Entry
   {
     double delta;
@@ -1579,7 +1554,7 @@ private:
         terms_stale_ = true; // only totalCost reads them now: refreshed there, once
       return;
     }
-    if (!changed_.empty ()) // the next look-ahead round starts here too
+    if (!changed_.empty ()) // the descent's swaps: the next look-ahead round starts there too
       changed_[q.t0] = changed_[q.t1] = 1;
     ++round_;
     const auto update = [this] (std::size_t h) {
@@ -1784,12 +1759,14 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     optimizer.descend ();
     count (result.descent_swaps);
     // Each kept sequence strictly lowers the cost, so this ends.
-    if (!result.noisy)
-      while (!optimizer.swapLimitReached () && optimizer.lookAhead (options.look_ahead_depth)) {
-        count (result.look_ahead_swaps);
-        optimizer.descend ();
-        count (result.descent_swaps);
-      }
+    while (!result.noisy && !optimizer.swapLimitReached ()) {
+      const bool kept = optimizer.lookAhead (options.look_ahead_depth);
+      count (result.look_ahead_swaps); // sequences undone count too
+      if (!kept)
+        break;
+      optimizer.descend ();
+      count (result.descent_swaps);
+    }
     // Each round of targeted swaps strictly lowers the number of intersecting pairs
     // and the descent never raises it, so this ends.
     while (options.remove_self_intersections && optimizer.removeIntersections ()) {

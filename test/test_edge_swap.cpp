@@ -306,7 +306,13 @@ TEST (EdgeSwap, LookAheadFollowsCreases)
       const EdgeSwapResult r0 = optimize (descent, by_descent);
       const EdgeSwapResult r1 = optimize (look_ahead, by_look_ahead);
       EXPECT_GT (r1.look_ahead_swaps, 0u);
+      EXPECT_EQ (r1.swaps, r1.descent_swaps + r1.look_ahead_swaps + r1.intersection_swaps);
       EXPECT_LT (r1.cost_after, 0.9 * r0.cost_after);
+      // A limit on the swaps holds with the look-ahead's tried ones among them.
+      EdgeSwapOptions limited = look_ahead;
+      limited.max_swaps = r0.descent_swaps + 7;
+      Triangles by_limited;
+      EXPECT_LE (optimize (limited, by_limited).swaps, limited.max_swaps);
       EXPECT_LE (farthest (by_look_ahead), farthest (by_descent));
       sum_descent += farthest (by_descent);
       sum_look_ahead += farthest (by_look_ahead);
@@ -322,6 +328,27 @@ TEST (EdgeSwap, LookAheadFollowsCreases)
       EXPECT_LE (farthest (by_defaults), farthest (by_without));
     }
   EXPECT_LT (sum_look_ahead, 0.6 * sum_descent);
+}
+
+TEST (EdgeSwap, LookAheadLeavesAFlatDelaunayMeshAlone)
+{
+  // Nothing turns: no sequence starts, and the triangles come back as they went in.
+  std::mt19937 random (3);
+  std::uniform_real_distribution<double> coordinate (-1.0, 1.0);
+  Points2 flat (400);
+  Points3 points;
+  for (auto& q : flat) {
+    q = Eigen::Vector2d (coordinate (random), coordinate (random));
+    points.emplace_back (q.x (), q.y (), 0.0);
+  }
+  const Delaunay2DResult delaunay = delaunay2D (flat);
+  ASSERT_TRUE (delaunay.success) << delaunay.message;
+  Triangles work = delaunay.triangles;
+  const EdgeSwapResult result = optimizeBySwaps (points, work);
+  ASSERT_TRUE (result.success) << result.message;
+  EXPECT_EQ (result.swaps, 0u);
+  EXPECT_EQ (result.look_ahead_swaps, 0u);
+  EXPECT_EQ (work, delaunay.triangles);
 }
 
 TEST (EdgeSwap, DescentMakesNoEdgeLongerThanItsQuad)

@@ -204,7 +204,9 @@ public:
   }
 
   /** \brief Rules of the edge-swap optimization (cost function, fold bound, angle
-    * pass); what the swaps need to know of the mesh and the machine the class sets. */
+    * pass, look-ahead); what the swaps need to know of the mesh and the machine the
+    * class sets. The disc topology makes no look-ahead: it would re-triangulate gaps
+    * whose long edges the cut for missed holes looks for. */
   inline void
   setOptimizationOptions (const meshless::SwapRules& options)
   {

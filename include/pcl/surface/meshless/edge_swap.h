@@ -68,7 +68,8 @@ struct SwapRules
   bool remove_self_intersections = true;
   /** \brief Default: 0, meaning unlimited (the descent ends anyway: every swap lowers
     * the cost by more than rounding, and there are finitely many triangulations).
-    * Limits all swaps of all passes. */
+    * Limits all swaps of all passes (the look-ahead's tried and undone ones among
+    * them). */
   std::size_t max_swaps = 0;
   /** \brief Default: 10. The descent only swaps edges whose two triangles turn by at
     * least this angle (degrees), or that belong to a triangle of an intersecting pair
@@ -102,19 +103,20 @@ struct SwapRules
     * largest distance to the surface down and the angles up. Applies to the cost
     * descent only. */
   bool descent_keeps_longest_edge = true;
-  /** \brief Default: 4. After the descent, sequences of up to this many swaps, each
-    * on an edge of the two triangles the one before made, that lower the cost
-    * together although the first alone does not; made one at a time, each followed
-    * by the descent, until none is found (0 or 1: none). The greedy descent stops
-    * where a few swaps must change together: a crease crossed by fans of triangles
-    * instead of followed by an edge, whose chords lie off the surface. A sequence
-    * starts at an edge the descent looks at (descent_min_dihedral_deg), each step
-    * must be admissible, and it is kept only if it adds no intersecting pair; it is
-    * not held to descent_keeps_longest_edge (an edge along a crease is often longer
-    * than the quads it crosses). Per-edge costs only; not on noisy input
-    * (noisy_median_dihedral_deg), where the descent itself is held back; the
-    * class's disc topology does not use it (it would re-triangulate gaps whose
-    * long edges the hole cut looks for). */
+  /** \brief Default: 4 (0 or 1: off). After the descent, sequences of up to this
+    * many swaps, each on an outer edge of the two triangles the one before made,
+    * that lower the cost together although their first swap alone does not. The
+    * greedy descent stops where a few swaps must change together: a crease crossed
+    * by fans of triangles instead of followed by an edge, whose chords lie off the
+    * surface. In rounds, each followed by the descent: the first starts from every
+    * edge turning by descent_min_dihedral_deg or more, later ones from those among
+    * them at the triangles the last round and the descent rewrote, until a round
+    * keeps none. A first swap that lowers the cost alone is no start (the descent
+    * would have made it but for one of its rules); each step must be admissible;
+    * a sequence is kept only if it leaves no more intersecting pairs than before.
+    * The steps are not held to descent_keeps_longest_edge (an edge along a crease is
+    * often longer than the quads it crosses). Per-edge costs only; not on noisy
+    * input (noisy_median_dihedral_deg), where the descent itself is held back. */
   std::size_t look_ahead_depth = 4;
   /** \brief Default: 60. Quads turning more than this (degrees) are left alone by
     * the angle pass, but for angle_pass_unfolds_steep_quads. A low bound leaves the
@@ -196,8 +198,8 @@ struct EdgeSwapResult : StageStatus
   * characteristic and the boundary are kept. Deterministic.
   *
   * The passes: the descent (edges that turn by at least descent_min_dihedral_deg),
-  * then rounds of targeted intersection removal each followed by the descent, then
-  * the angle pass. Angles are computed with a polynomial arctangent (within 4e-8
+  * then rounds of the look-ahead each followed by the descent, then rounds of
+  * targeted intersection removal each followed by the descent, then the angle pass. Angles are computed with a polynomial arctangent (within 4e-8
   * radians), costs before a swap are cached per edge. Memory: about 180 bytes per
   * triangle without renumbering.
   * \param[in] points the vertex positions
