@@ -113,7 +113,8 @@ struct SwapRules
     * them at the triangles the last round and the descent rewrote, until a round
     * keeps none. A first swap that lowers the cost alone is no start (the descent
     * would have made it but for one of its rules); each step must be admissible;
-    * a sequence is kept only if it leaves no more intersecting pairs than before.
+    * with remove_self_intersections, a sequence is kept only if it leaves no more
+    * intersecting pairs than before.
     * The steps are not held to descent_keeps_longest_edge (an edge along a crease is
     * often longer than the quads it crosses). Per-edge costs only; not on noisy
     * input (noisy_median_dihedral_deg), where the descent itself is held back. */
