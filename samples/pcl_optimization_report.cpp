@@ -88,6 +88,7 @@ usage (const char* program)
       "  -angles 0|1      EdgeSwapOptions::improve_angles\n"
       "  -longest 0|1     EdgeSwapOptions::descent_keeps_longest_edge\n"
       "  -look-ahead N    EdgeSwapOptions::look_ahead_depth (0: off)\n"
+      "  -crease-look-ahead N  EdgeSwapOptions::crease_look_ahead_depth (0: off)\n"
       "  -intersections 0|1  EdgeSwapOptions::remove_self_intersections\n",
       program, default_clouds[0], default_clouds[1], default_clouds[2], default_clouds[3],
       default_clouds[4]);
@@ -233,6 +234,7 @@ describe (const meshless::EdgeSwapOptions& o)
          ", new edges no longer than their quad's longest " +
          (o.descent_keeps_longest_edge ? "on" : "off") +
          ", look-ahead " + std::to_string (o.look_ahead_depth) + " swaps deep" +
+         ", at creases " + std::to_string (o.crease_look_ahead_depth) +
          (o.max_swaps ? ", at most " + std::to_string (o.max_swaps) + " swaps" : "");
 }
 
@@ -422,7 +424,7 @@ const std::vector<meshless_tools::Flag> kFlags = {
     {"-size", true},        {"-timing-only", false},  {"-view", true},
     {"-cost", true},        {"-descent-min-dihedral", true},
     {"-noisy-median", true}, {"-longest", true},     {"-angles", true},
-    {"-intersections", true}, {"-look-ahead", true}};
+    {"-intersections", true}, {"-look-ahead", true}, {"-crease-look-ahead", true}};
 
 /** The optimization options under test; the library's defaults where not given. */
 bool
@@ -433,12 +435,15 @@ readSwapOptions (CommandLine& line, meshless::EdgeSwapOptions& swaps)
       meshless::SwapCost::SquaredMeanCurvature, meshless::SwapCost::TotalAbsoluteCurvature};
   int cost = -1, longest = -1, angles = -1, intersections = -1;
   int look_ahead = static_cast<int> (swaps.look_ahead_depth);
+  int crease_look_ahead = static_cast<int> (swaps.crease_look_ahead_depth);
   if (!line.choose ("-cost", {"abn", "mean", "squared", "total"}, cost) ||
       !line.read ("-descent-min-dihedral", swaps.descent_min_dihedral_deg) ||
       !line.read ("-noisy-median", swaps.noisy_median_dihedral_deg) ||
       !line.choose ("-longest", {"0", "1"}, longest) ||
       !line.read ("-look-ahead", look_ahead) ||
       (look_ahead < 0 && !line.reject ("-look-ahead", "must be 0 or more")) ||
+      !line.read ("-crease-look-ahead", crease_look_ahead) ||
+      (crease_look_ahead < 0 && !line.reject ("-crease-look-ahead", "must be 0 or more")) ||
       !line.choose ("-angles", {"0", "1"}, angles) ||
       !line.choose ("-intersections", {"0", "1"}, intersections))
     return false;
@@ -447,6 +452,7 @@ readSwapOptions (CommandLine& line, meshless::EdgeSwapOptions& swaps)
   if (longest >= 0)
     swaps.descent_keeps_longest_edge = longest == 1;
   swaps.look_ahead_depth = static_cast<std::size_t> (look_ahead);
+  swaps.crease_look_ahead_depth = static_cast<std::size_t> (crease_look_ahead);
   if (angles >= 0)
     swaps.improve_angles = angles == 1;
   if (intersections >= 0)

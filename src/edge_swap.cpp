@@ -249,6 +249,10 @@ private:
   * costs milliseconds on a loaded machine, more than such loops take. */
 constexpr std::ptrdiff_t parallel_from = 50000;
 
+/** SwapRules::crease_look_ahead_depth's rounds start only from edges turning by
+  * this much or more (radians): sharp creases, not the slight turns of curved parts. */
+constexpr double crease_look_ahead_min_dihedral = pi / 4.0;
+
 // ---------------------------------------------------------------------------
 // The optimizer: a half-edge structure over the triangle array, the heap, the passes.
 
@@ -770,14 +774,14 @@ public:
     * to `depth` swaps, each on an outer edge of the two triangles the one before
     * made, that lower the cost together although their first swap alone does not
     * (the greedy descent stops where a few swaps must change together: a crease
-    * crossed by fans instead of followed). The first round starts from every edge
-    * the descent looks at, later ones from the triangles the last round and the
-    * descent rewrote. Each step must be admissible; a sequence found is made again
+    * crossed by fans instead of followed), starting from edges turning by
+    * `min_dihedral` or more. The first round starts from all of them, later ones
+    * from those at the triangles the last round and the descent rewrote. Each step must be admissible; a sequence found is made again
     * under the intersection bookkeeping and undone if it adds pairs. Per-edge costs
     * only. Returns whether a sequence was kept; the next descent prices every edge
     * afresh. */
   bool
-  lookAhead (std::size_t depth)
+  lookAhead (std::size_t depth, double min_dihedral)
   {
     if (!perEdge () || depth < 2)
       return false;
@@ -797,7 +801,7 @@ public:
       // A sequence and its replay add at most 2 depth swaps before they settle.
       if (options_.max_swaps != 0 && swaps_ + 2 * depth > options_.max_swaps)
         break;
-      if (term_[e] < min_dihedral_ * weightOf (e))
+      if (term_[e] < min_dihedral * weightOf (e))
         continue;
       const std::int32_t h = edge_he_[e];
       if (!everywhere && !start[h / 3] && !(opp_[h] >= 0 && start[opp_[h] / 3]))
@@ -812,6 +816,20 @@ public:
     }
     terms_live_ = false;
     return any;
+  }
+
+  /** The next lookAhead starts from every edge again, not only where the last
+    * round and the descent rewrote triangles. */
+  void
+  lookAheadEverywhere ()
+  {
+    changed_.clear ();
+  }
+
+  double
+  minDihedral () const
+  {
+    return min_dihedral_;
   }
 
 private:
@@ -1758,14 +1776,20 @@ optimizeBySwaps (const Points3& points, Triangles& triangles, const EdgeSwapOpti
     };
     optimizer.descend ();
     count (result.descent_swaps);
-    // Each kept sequence strictly lowers the cost, so this ends.
-    while (!result.noisy && !optimizer.swapLimitReached ()) {
-      const bool kept = optimizer.lookAhead (options.look_ahead_depth);
-      count (result.look_ahead_swaps); // sequences undone count too
-      if (!kept)
-        break;
-      optimizer.descend ();
-      count (result.descent_swaps);
+    const std::array<std::pair<std::size_t, double>, 2> look_ahead_phases{
+        std::make_pair (options.look_ahead_depth, optimizer.minDihedral ()),
+        std::make_pair (options.crease_look_ahead_depth, crease_look_ahead_min_dihedral)};
+    for (const auto& [depth, min_dihedral] : look_ahead_phases) {
+      optimizer.lookAheadEverywhere ();
+      // Each kept sequence strictly lowers the cost, so this ends.
+      while (!result.noisy && !optimizer.swapLimitReached ()) {
+        const bool kept = optimizer.lookAhead (depth, min_dihedral);
+        count (result.look_ahead_swaps); // sequences undone count too
+        if (!kept)
+          break;
+        optimizer.descend ();
+        count (result.descent_swaps);
+      }
     }
     // Each round of targeted swaps strictly lowers the number of intersecting pairs
     // and the descent never raises it, so this ends.

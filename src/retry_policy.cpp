@@ -141,8 +141,10 @@ MeshFinisher::optimize (Triangles& triangles, const Normals& normals, FinishedMe
   swaps.renumber_vertices = false; // the points follow a Z-order curve already
   // On an open surface the look-ahead would re-triangulate gaps whose long edges
   // openMissedHoles looks for.
-  if (!closed_)
+  if (!closed_) {
     swaps.look_ahead_depth = 0;
+    swaps.crease_look_ahead_depth = 0;
+  }
   swaps.num_threads = static_cast<int> (options_.num_threads);
   if (closed_ && options_.check_self_intersections &&
       !checkAndRepairRaw (triangles, normals, finished, swaps))

@@ -238,73 +238,105 @@ TEST (EdgeSwap, RidgeEdgesAppearInHeightField)
   }
 }
 
+/** Random points on two planes meeting at a crease (a ridge or a valley, at an
+  * angle to the axes), with the Delaunay triangulation of their projection: fans
+  * of triangles cross the crease and cut it off. */
+struct CreaseSample
+{
+  CreaseSample (double slope, std::uint32_t seed, std::size_t size)
+    : slope (slope), across (std::cos (0.4), std::sin (0.4)),
+      spacing (2.0 / std::sqrt (static_cast<double> (size)))
+  {
+    std::mt19937 random (seed);
+    std::uniform_real_distribution<double> coordinate (-1.0, 1.0);
+    Points2 flat (size);
+    for (auto& q : flat) {
+      q = Eigen::Vector2d (coordinate (random), coordinate (random));
+      points.emplace_back (q.x (), q.y (), -slope * std::abs (q.dot (across)));
+    }
+    const Delaunay2DResult delaunay = delaunay2D (flat);
+    EXPECT_TRUE (delaunay.success) << delaunay.message;
+    triangles = delaunay.triangles;
+  }
+
+  /** Distance to the two half-planes, in the plane of `across` and z. */
+  double
+  distance (const Eigen::Vector3d& p) const
+  {
+    const Eigen::Vector2d uz (p.head<2> ().dot (across), p.z ());
+    double best = uz.norm ();
+    for (const double side : {1.0, -1.0}) {
+      const Eigen::Vector2d ray = Eigen::Vector2d (side, -slope).normalized ();
+      const double along = uz.dot (ray);
+      if (along > 0.0)
+        best = std::min (best, (uz - along * ray).norm ());
+    }
+    return best;
+  }
+
+  /** Largest and mean distance of the centroids and edge midpoints, in spacings,
+    * away from the square's sides (the convex hull's slivers there are the same in
+    * all runs). */
+  std::pair<double, double>
+  distances (const Triangles& mesh) const
+  {
+    double far = 0.0, sum = 0.0;
+    std::size_t count = 0;
+    for (const Triangle& t : mesh) {
+      const Eigen::Vector3d &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
+      if (std::max ({a.head<2> ().lpNorm<Eigen::Infinity> (), b.head<2> ().lpNorm<Eigen::Infinity> (),
+                     c.head<2> ().lpNorm<Eigen::Infinity> ()}) > 0.8)
+        continue;
+      for (const Eigen::Vector3d& q : {Eigen::Vector3d ((a + b + c) / 3.0), Eigen::Vector3d ((a + b) / 2.0),
+                                       Eigen::Vector3d ((b + c) / 2.0), Eigen::Vector3d ((c + a) / 2.0)}) {
+        far = std::max (far, distance (q));
+        sum += distance (q);
+        ++count;
+      }
+    }
+    return {far / spacing, sum / static_cast<double> (std::max<std::size_t> (count, 1)) / spacing};
+  }
+
+  /** The swaps on a copy of the Delaunay triangles, checked to keep the topology
+    * and to leave no intersecting pair. */
+  EdgeSwapResult
+  optimize (const EdgeSwapOptions& options, Triangles& work) const
+  {
+    work = triangles;
+    const EdgeSwapResult result = optimizeBySwaps (points, work, options);
+    EXPECT_TRUE (result.success) << result.message;
+    expectSameTopology (points, triangles, work);
+    EXPECT_EQ (result.self_intersections_after, 0u);
+    return result;
+  }
+
+  double slope;
+  Eigen::Vector2d across;
+  double spacing;
+  Points3 points;
+  Triangles triangles;
+};
+
 TEST (EdgeSwap, LookAheadFollowsCreases)
 {
-  // Random points on two planes meeting at a crease (ridges and a valley, at an
-  // angle to the axes), triangulated by the Delaunay triangulation of their
-  // projection: fans of triangles cross the crease and cut it off. The descent
-  // alone stops where several swaps must change together; the look-ahead goes on
-  // to a lower cost and brings the triangles nearer the surface.
+  // The descent alone stops where several swaps must change together; the
+  // look-ahead goes on to a lower cost and brings the triangles nearer the surface.
   double sum_descent = 0.0, sum_look_ahead = 0.0;
   for (const double slope : {0.6, -0.8, 1.0})
     for (std::uint32_t seed = 1; seed <= 3; ++seed) {
       SCOPED_TRACE ("slope " + std::to_string (slope) + " seed " + std::to_string (seed));
-      std::mt19937 random (seed);
-      std::uniform_real_distribution<double> coordinate (-1.0, 1.0);
-      const Eigen::Vector2d across (std::cos (0.4), std::sin (0.4));
-      Points2 flat (600);
-      Points3 points;
-      for (auto& q : flat) {
-        q = Eigen::Vector2d (coordinate (random), coordinate (random));
-        points.emplace_back (q.x (), q.y (), -slope * std::abs (q.dot (across)));
-      }
-      // Distance to the two half-planes, in the plane of `across` and z.
-      const auto distance = [&] (const Eigen::Vector3d& p) {
-        const Eigen::Vector2d uz (p.head<2> ().dot (across), p.z ());
-        double best = uz.norm ();
-        for (const double side : {1.0, -1.0}) {
-          const Eigen::Vector2d ray = Eigen::Vector2d (side, -slope).normalized ();
-          const double along = uz.dot (ray);
-          if (along > 0.0)
-            best = std::min (best, (uz - along * ray).norm ());
-        }
-        return best;
-      };
-      const Delaunay2DResult delaunay = delaunay2D (flat);
-      ASSERT_TRUE (delaunay.success) << delaunay.message;
-      const double spacing = 2.0 / std::sqrt (600.0);
-      // Largest distance of a centroid or edge midpoint, in spacings, away from the
-      // square's sides (the convex hull's slivers there are the same in all runs).
-      const auto farthest = [&] (const Triangles& triangles) {
-        double far = 0.0;
-        for (const Triangle& t : triangles) {
-          const Eigen::Vector3d &a = points[t[0]], &b = points[t[1]], &c = points[t[2]];
-          if (std::max ({a.head<2> ().lpNorm<Eigen::Infinity> (), b.head<2> ().lpNorm<Eigen::Infinity> (),
-                         c.head<2> ().lpNorm<Eigen::Infinity> ()}) > 0.8)
-            continue;
-          for (const Eigen::Vector3d& q : {Eigen::Vector3d ((a + b + c) / 3.0), Eigen::Vector3d ((a + b) / 2.0),
-                                           Eigen::Vector3d ((b + c) / 2.0), Eigen::Vector3d ((c + a) / 2.0)})
-            far = std::max (far, distance (q));
-        }
-        return far / spacing;
-      };
-      const auto optimize = [&] (const EdgeSwapOptions& options, Triangles& work) {
-        work = delaunay.triangles;
-        const EdgeSwapResult result = optimizeBySwaps (points, work, options);
-        EXPECT_TRUE (result.success) << result.message;
-        expectSameTopology (points, delaunay.triangles, work);
-        EXPECT_EQ (result.self_intersections_after, 0u);
-        return result;
-      };
+      const CreaseSample sample (slope, seed, 600);
+      const auto farthest = [&] (const Triangles& mesh) { return sample.distances (mesh).first; };
       // The descent and the look-ahead alone.
       EdgeSwapOptions descent;
       descent.improve_angles = false;
       descent.look_ahead_depth = 0;
+      descent.crease_look_ahead_depth = 0;
       EdgeSwapOptions look_ahead = descent;
       look_ahead.look_ahead_depth = 4;
       Triangles by_descent, by_look_ahead;
-      const EdgeSwapResult r0 = optimize (descent, by_descent);
-      const EdgeSwapResult r1 = optimize (look_ahead, by_look_ahead);
+      const EdgeSwapResult r0 = sample.optimize (descent, by_descent);
+      const EdgeSwapResult r1 = sample.optimize (look_ahead, by_look_ahead);
       EXPECT_GT (r1.look_ahead_swaps, 0u);
       EXPECT_EQ (r1.swaps, r1.descent_swaps + r1.look_ahead_swaps + r1.intersection_swaps);
       EXPECT_LT (r1.cost_after, 0.9 * r0.cost_after);
@@ -312,7 +344,7 @@ TEST (EdgeSwap, LookAheadFollowsCreases)
       EdgeSwapOptions limited = look_ahead;
       limited.max_swaps = r0.descent_swaps + 7;
       Triangles by_limited;
-      EXPECT_LE (optimize (limited, by_limited).swaps, limited.max_swaps);
+      EXPECT_LE (sample.optimize (limited, by_limited).swaps, limited.max_swaps);
       EXPECT_LE (farthest (by_look_ahead), farthest (by_descent));
       sum_descent += farthest (by_descent);
       sum_look_ahead += farthest (by_look_ahead);
@@ -320,14 +352,44 @@ TEST (EdgeSwap, LookAheadFollowsCreases)
       // its bound locally Delaunay again, so here it undoes most of that; the
       // look-ahead must not leave the mesh farther from the surface.
       Triangles by_defaults;
-      optimize (EdgeSwapOptions (), by_defaults);
+      sample.optimize (EdgeSwapOptions (), by_defaults);
       EdgeSwapOptions without = EdgeSwapOptions ();
       without.look_ahead_depth = 0;
+      without.crease_look_ahead_depth = 0;
       Triangles by_without;
-      optimize (without, by_without);
+      sample.optimize (without, by_without);
       EXPECT_LE (farthest (by_defaults), farthest (by_without));
     }
   EXPECT_LT (sum_look_ahead, 0.6 * sum_descent);
+}
+
+TEST (EdgeSwap, CreaseLookAheadGoesDeeperAtSharpCreases)
+{
+  // Creases turning by 62 to 127 degrees: after the look-ahead's rounds, deeper
+  // sequences from the crease's edges lower the cost further (never raise it:
+  // they start where the first rounds stopped) and bring the triangles nearer.
+  double sum_first = 0.0, sum_crease = 0.0;
+  std::size_t crease_kept = 0;
+  for (const double slope : {0.6, -0.8, 1.0, 1.5, -2.0})
+    for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+      SCOPED_TRACE ("slope " + std::to_string (slope) + " seed " + std::to_string (seed));
+      const CreaseSample sample (slope, seed, 600);
+      EdgeSwapOptions first;
+      first.improve_angles = false;
+      first.crease_look_ahead_depth = 0;
+      EdgeSwapOptions crease = first;
+      crease.crease_look_ahead_depth = 8;
+      Triangles by_first, by_crease;
+      const EdgeSwapResult r0 = sample.optimize (first, by_first);
+      const EdgeSwapResult r1 = sample.optimize (crease, by_crease);
+      EXPECT_LE (r1.cost_after, r0.cost_after);
+      if (r1.cost_after < r0.cost_after)
+        ++crease_kept;
+      sum_first += sample.distances (by_first).second;
+      sum_crease += sample.distances (by_crease).second;
+    }
+  EXPECT_GE (crease_kept, 15u);
+  EXPECT_LT (sum_crease, 0.8 * sum_first);
 }
 
 TEST (EdgeSwap, LookAheadLeavesAFlatDelaunayMeshAlone)

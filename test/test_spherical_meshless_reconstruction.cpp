@@ -578,11 +578,12 @@ TEST (SphericalMeshlessReconstruction, FoldedTrianglesOpenOutOnCleanClouds)
     pcl::meshless::Points3 reference_points;
     pcl::meshless::Triangles reference;
     ASSERT_EQ (meshless_tools::loadMesh (mesh_path, reference_points, reference), "");
-    const auto distanceWith = [&] (bool unfold, std::size_t look_ahead) {
+    const auto distanceWith = [&] (bool unfold, bool look_ahead) {
       pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
       pcl::meshless::SwapRules rules;
       rules.angle_pass_unfolds_steep_quads = unfold;
-      rules.look_ahead_depth = look_ahead;
+      if (!look_ahead)
+        rules.look_ahead_depth = rules.crease_look_ahead_depth = 0;
       reconstruction.setOptimizationOptions (rules);
       reconstruction.setInputCloud (cloud);
       std::vector<pcl::Vertices> polygons;
@@ -598,13 +599,12 @@ TEST (SphericalMeshlessReconstruction, FoldedTrianglesOpenOutOnCleanClouds)
       EXPECT_TRUE (report.success) << report.message;
       return report;
     };
-    const pcl::meshless::SwapRules defaults;
-    const auto both = distanceWith (true, defaults.look_ahead_depth);
+    const auto both = distanceWith (true, true);
     EXPECT_LT (both.two_sided.mean, bound);
     if (!check_the_rules)
       continue;
-    const auto unfolded = distanceWith (true, 0);
-    EXPECT_GT (distanceWith (false, 0).two_sided.mean, 2.0 * unfolded.two_sided.mean);
+    const auto unfolded = distanceWith (true, false);
+    EXPECT_GT (distanceWith (false, false).two_sided.mean, 2.0 * unfolded.two_sided.mean);
     EXPECT_GT (unfolded.to_reference.max, 1.8 * both.to_reference.max);
   }
 }

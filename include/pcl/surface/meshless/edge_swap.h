@@ -119,6 +119,12 @@ struct SwapRules
     * often longer than the quads it crosses). Per-edge costs only; not on noisy
     * input (noisy_median_dihedral_deg), where the descent itself is held back. */
   std::size_t look_ahead_depth = 4;
+  /** \brief Default: 8 (0 or 1: off). After the look-ahead's rounds, rounds of
+    * the same kind with sequences up to this many swaps, starting only from edges
+    * that turn by 45 degrees or more: a fan across a sharp crease changes over more
+    * swaps than the first depth reaches, and that depth everywhere would cost
+    * several times more. Under the same conditions as look_ahead_depth. */
+  std::size_t crease_look_ahead_depth = 8;
   /** \brief Default: 60. Quads turning more than this (degrees) are left alone by
     * the angle pass, but for angle_pass_unfolds_steep_quads. A low bound leaves the
     * descent's slivers on curved parts, whose chords lie off the surface; much above
