@@ -91,9 +91,11 @@ public:
   turnsBackUnrepaired (const Triangles& triangles, const Normals& normals) const;
 
 private:
+  /** The raw folds' repair (before_swaps) leaves a few pairs to the swaps, which
+    * open most of them; the final one tries longer runs of swaps on them. */
   bool
   repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
-               const char* stage, FoldRepairResult& repair,
+               const char* stage, bool before_swaps, FoldRepairResult& repair,
                std::vector<char>* rewritten = nullptr);
   bool
   checkAndRepairRaw (Triangles& triangles, const Normals& normals, FinishedMesh& finished,

@@ -362,3 +362,53 @@ TEST (FoldRepair, DiscRegionOfAWholeClosedMeshIsNone)
   EXPECT_FALSE (pinched);
   EXPECT_EQ (one, std::vector<pcl::index_t>{0});
 }
+
+TEST (FoldRepair, LongerRunsOfSwapsWhereFewPairsAreLeft)
+{
+  // One vertex pushed past a neighbour by 0.4 to 2 times their distance, discs off:
+  // two swaps in a row leave 2-3 pairs; runs of three and four, tried only because
+  // so few are left, must never leave more, leave fewer on most members, count
+  // exactly and keep the sphere. Where more than 8 pairs are left, they are not
+  // tried.
+  const Mesh sphere = geodesicSphere (12);
+  std::size_t members = 0, fewer = 0;
+  for (const double beyond : {0.4, 1.2, 2.0})
+    for (const pcl::index_t v : {400, 900, 1200}) {
+      SCOPED_TRACE ("beyond " + std::to_string (beyond) + " vertex " + std::to_string (v));
+      const Mesh folded = foldPastNeighbour (sphere, v, beyond);
+      const MeshReport fold = checkAll (folded);
+      ASSERT_GT (fold.self_intersecting_pairs, 0u);
+      FoldRepairOptions two;
+      two.max_region_triangles = 3;
+      two.max_swaps_in_a_row_when_few = two.max_swaps_in_a_row;
+      FoldRepairOptions four = two;
+      four.max_swaps_in_a_row_when_few = 4;
+      FoldRepairResult by_two, by_four;
+      repaired (folded, fold, by_two, two);
+      const Mesh longer = repaired (folded, fold, by_four, four);
+      const MeshReport after = checkAll (longer);
+      EXPECT_LE (by_four.pairs_after, by_two.pairs_after);
+      EXPECT_EQ (by_four.pairs_after, after.self_intersecting_pairs);
+      expectSameSphere (folded, longer, after);
+      ++members;
+      if (by_four.pairs_after < by_two.pairs_after)
+        ++fewer;
+    }
+  EXPECT_GE (fewer, members / 2);
+
+  // Four folds at once leave 12 pairs after two swaps in a row: too many for runs.
+  Mesh many = sphere;
+  for (const pcl::index_t v : {60, 400, 900, 1200})
+    many.vertices[v] = foldPastNeighbour (sphere, v, 2.0).vertices[v];
+  const MeshReport fold = checkAll (many);
+  FoldRepairOptions two;
+  two.max_region_triangles = 3;
+  two.max_swaps_in_a_row_when_few = two.max_swaps_in_a_row;
+  FoldRepairOptions four = two;
+  four.max_swaps_in_a_row_when_few = 4;
+  FoldRepairResult by_two, by_four;
+  const Mesh with_two = repaired (many, fold, by_two, two);
+  const Mesh with_four = repaired (many, fold, by_four, four);
+  EXPECT_GT (by_two.pairs_after, 8u);
+  EXPECT_EQ (with_four.triangles, with_two.triangles);
+}

@@ -52,6 +52,12 @@ struct FoldRepairOptions
   /** \brief Swaps tried in a row before giving up on an edge; each more removes a
     * few more pairs at many times the cost. Default 2. */
   int max_swaps_in_a_row = 2;
+  /** \brief Where at most 8 pairs are left after the passes, swaps up to this many
+    * in a row around them, one more at a time (each costs about ten times the one
+    * before, affordable around a few folds only): a pleat on the rim of a part
+    * thinner than the point spacing, whose discs mix its two sides, may open only
+    * then. Default 4; at most max_swaps_in_a_row turns it off. */
+  int max_swaps_in_a_row_when_few = 4;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
     * triangles still intersecting); they stop at the first pass that lowers nothing.
     * Default 4: more passes rarely lower anything further. */
