@@ -770,13 +770,14 @@ public:
     }
   }
 
-  /** One round of the look-ahead (SwapRules::look_ahead_depth): sequences of up
-    * to `depth` swaps, each on an outer edge of the two triangles the one before
-    * made, that lower the cost together although their first swap alone does not
-    * (the greedy descent stops where a few swaps must change together: a crease
-    * crossed by fans instead of followed), starting from edges turning by
-    * `min_dihedral` or more. The first round starts from all of them, later ones
-    * from those at the triangles the last round and the descent rewrote. Each step must be admissible; a sequence found is made again
+  /** One round of the look-ahead (SwapRules::look_ahead_depth and
+    * crease_look_ahead_depth): sequences of up to `depth` swaps, each on an outer
+    * edge of the two triangles the one before made, that lower the cost together
+    * although their first swap alone does not (the greedy descent stops where a few
+    * swaps must change together: a crease crossed by fans instead of followed),
+    * starting from edges turning by `min_dihedral` or more. The first round starts
+    * from all of them, later ones from those at the triangles the last round and the
+    * descent rewrote. Each step must be admissible; a sequence found is made again
     * under the intersection bookkeeping and undone if it adds pairs. Per-edge costs
     * only. Returns whether a sequence was kept; the next descent prices every edge
     * afresh. */

@@ -34,9 +34,6 @@ namespace {
 using Vec2 = Eigen::Vector2d;
 using Vec3 = Eigen::Vector3d;
 
-/** FoldRepairOptions::max_swaps_in_a_row_when_few: at most this many pairs left. */
-constexpr std::size_t few_pairs_left = 8;
-
 double
 cross2 (const Vec2& a, const Vec2& b, const Vec2& c)
 {
@@ -1277,10 +1274,11 @@ repairFoldsByReinsertion (const Points3& points,
     }
     for (int in_a_row = options.max_swaps_in_a_row + 1;
          options.swaps && in_a_row <= options.max_swaps_in_a_row_when_few &&
-         result.pairs_after > 0 && result.pairs_after <= few_pairs_left;
-         ++in_a_row)
-      rounds (stillIntersecting (), [&] (pcl::index_t v) { return repair.trySwaps (v, in_a_row); },
-              result.swaps);
+         result.pairs_after > 0 && result.pairs_after <= options.max_pairs_for_longer_runs;
+         ++in_a_row) {
+      const auto run = [&] (pcl::index_t v) { return repair.trySwaps (v, in_a_row); };
+      rounds (stillIntersecting (), run, result.swaps);
+    }
   }
   catch (const std::bad_alloc&) {
     result.message = "out of memory";

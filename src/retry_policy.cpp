@@ -76,7 +76,7 @@ MeshFinisher::turnsBackUnrepaired (const Triangles& triangles, const Normals& no
 
 bool
 MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
-                           const char* stage, bool before_swaps, FoldRepairResult& repair,
+                           const char* stage, LongerSwapRuns longer_runs, FoldRepairResult& repair,
                            std::vector<char>* rewritten)
 {
   // Only where the listed pairs are complete and the mesh does not turn back over
@@ -94,7 +94,7 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
     repair_options.normals = &normals;
   }
   repair_options.rewritten = rewritten;
-  if (before_swaps)
+  if (longer_runs == LongerSwapRuns::Off)
     repair_options.max_swaps_in_a_row_when_few = repair_options.max_swaps_in_a_row;
   repair_options.num_threads = static_cast<int> (options_.num_threads);
   repair = repairFoldsByReinsertion (points_, triangles, mesh.intersecting_pairs, repair_options);
@@ -102,7 +102,7 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
                       std::to_string (repair.pairs_before) + " -> " +
                           std::to_string (repair.pairs_after) + " intersecting pairs, " +
                           std::to_string (repair.regions_remeshed) + " discs re-meshed, " +
-                          std::to_string (repair.swaps) + " swaps");
+                          std::to_string (repair.swaps) + " runs of swaps");
 }
 
 bool
@@ -121,7 +121,7 @@ MeshFinisher::checkAndRepairRaw (Triangles& triangles, const Normals& normals,
   }
   if (!clock_.done ("check raw", 0.93,
                     std::to_string (raw.self_intersecting_pairs) + " intersecting pairs") ||
-      !repairFolds (triangles, normals, raw, "repair raw", true, finished.raw_repair,
+      !repairFolds (triangles, normals, raw, "repair raw", LongerSwapRuns::Off, finished.raw_repair,
                     rewritten_.empty () ? nullptr : &rewritten_))
     return false;
   // The repair ran only on a complete list and counts exactly; where it left no
@@ -221,7 +221,7 @@ MeshFinisher::finish (Triangles& triangles, const Normals& normals, FinishedMesh
   checkFinal (triangles, finished);
   // Local folds the swaps could not open: re-meshed, then checked again (the pair
   // list must be complete for the repair to trust it).
-  if (!repairFolds (triangles, normals, finished.mesh, "repair", false, finished.repair))
+  if (!repairFolds (triangles, normals, finished.mesh, "repair", LongerSwapRuns::On, finished.repair))
     return "cancelled by the progress callback";
   if (finished.repair.regions_remeshed > 0 || finished.repair.swaps > 0)
     finished.mesh = checkMesh (points_, triangles, check_);

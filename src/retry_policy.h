@@ -52,6 +52,14 @@ struct CurrentResult
   }
 };
 
+/** \brief Whether a fold repair tries longer runs of swaps where few pairs are left
+  * (FoldRepairOptions::max_swaps_in_a_row_when_few). */
+enum class LongerSwapRuns
+{
+  Off,
+  On
+};
+
 /** \brief Turns a raw triangulation into a checked result: the raw folds re-meshed,
   * the edge swaps, the class's own check, the folds left re-meshed, outward
   * orientation, and the invariants of the topology. */
@@ -91,11 +99,11 @@ public:
   turnsBackUnrepaired (const Triangles& triangles, const Normals& normals) const;
 
 private:
-  /** The raw folds' repair (before_swaps) leaves a few pairs to the swaps, which
-    * open most of them; the final one tries longer runs of swaps on them. */
+  /** `longer_runs`: FoldRepairOptions::max_swaps_in_a_row_when_few applies (the
+    * raw repair leaves its last pairs to the edge swaps, which open most of them). */
   bool
   repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
-               const char* stage, bool before_swaps, FoldRepairResult& repair,
+               const char* stage, LongerSwapRuns longer_runs, FoldRepairResult& repair,
                std::vector<char>* rewritten = nullptr);
   bool
   checkAndRepairRaw (Triangles& triangles, const Normals& normals, FinishedMesh& finished,

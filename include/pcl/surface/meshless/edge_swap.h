@@ -119,11 +119,12 @@ struct SwapRules
     * often longer than the quads it crosses). Per-edge costs only; not on noisy
     * input (noisy_median_dihedral_deg), where the descent itself is held back. */
   std::size_t look_ahead_depth = 4;
-  /** \brief Default: 8 (0 or 1: off). After the look-ahead's rounds, rounds of
-    * the same kind with sequences up to this many swaps, starting only from edges
-    * that turn by 45 degrees or more: a fan across a sharp crease changes over more
-    * swaps than the first depth reaches, and that depth everywhere would cost
-    * several times more. Under the same conditions as look_ahead_depth. */
+  /** \brief Default: 8 (0 or 1: off). After the rounds of look_ahead_depth, rounds
+    * of the same kind with sequences up to this many swaps, starting only from
+    * edges that turn by 45 degrees or more: a fan across a sharp crease changes over
+    * more swaps than the first depth reaches, and that depth from every edge would
+    * cost several times more. Independent of look_ahead_depth (set both to 0 to
+    * turn the look-ahead off); per-edge costs only, not on noisy input. */
   std::size_t crease_look_ahead_depth = 8;
   /** \brief Default: 60. Quads turning more than this (degrees) are left alone by
     * the angle pass, but for angle_pass_unfolds_steep_quads. A low bound leaves the
@@ -174,7 +175,8 @@ struct EdgeSwapResult : StageStatus
   /** \brief Swaps performed (all passes). */
   std::size_t swaps = 0;
   /** \brief Of those, made by the cost descent, by the look-ahead's sequences
-    * (SwapRules::look_ahead_depth; their swaps made again under the intersection
+    * (SwapRules::look_ahead_depth and crease_look_ahead_depth; their swaps made
+    * again under the intersection
     * bookkeeping and those undone because they added pairs counted too), by the
     * targeted removal of intersections and by the angle pass. */
   std::size_t descent_swaps = 0, look_ahead_swaps = 0, intersection_swaps = 0, angle_swaps = 0;
@@ -205,8 +207,10 @@ struct EdgeSwapResult : StageStatus
   * characteristic and the boundary are kept. Deterministic.
   *
   * The passes: the descent (edges that turn by at least descent_min_dihedral_deg),
-  * then rounds of the look-ahead each followed by the descent, then rounds of
-  * targeted intersection removal each followed by the descent, then the angle pass. Angles are computed with a polynomial arctangent (within 4e-8
+  * then rounds of the look-ahead each followed by the descent (first from every
+  * edge the descent looks at, then deeper from sharp creases), then rounds of
+  * targeted intersection removal each followed by the descent, then the angle
+  * pass. Angles are computed with a polynomial arctangent (within 4e-8
   * radians), costs before a swap are cached per edge. Memory: about 180 bytes per
   * triangle without renumbering.
   * \param[in] points the vertex positions

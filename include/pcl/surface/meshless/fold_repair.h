@@ -34,7 +34,8 @@
   * reach a vertex from two sides (around a thin spike or ear rim) or surround a
   * few triangles they do not cover: the region then takes in that vertex or hole
   * until its boundary is one simple loop (otherwise such folds stay). Folds whose
-  * discs mix the two sides of a thin part along their boundary stay.
+  * discs mix the two sides of a thin part along their boundary are left to the
+  * swaps, in longer runs where only a few pairs are left.
   */
 namespace pcl {
 namespace meshless {
@@ -46,18 +47,22 @@ struct FoldRepairOptions
     * again only where the last one re-meshed). Default 4. */
   int max_rounds = 4;
   /** \brief After the discs, swap edges through the vertices of triangles that
-    * still intersect, up to max_swaps_in_a_row in a row, where that lowers the number of
-    * intersecting pairs. Default true. */
+    * still intersect, up to max_swaps_in_a_row in a row (max_swaps_in_a_row_when_few
+    * where few pairs are left), where that lowers the number of intersecting pairs.
+    * Default true. */
   bool swaps = true;
   /** \brief Swaps tried in a row before giving up on an edge; each more removes a
     * few more pairs at many times the cost. Default 2. */
   int max_swaps_in_a_row = 2;
-  /** \brief Where at most 8 pairs are left after the passes, swaps up to this many
-    * in a row around them, one more at a time (each costs about ten times the one
-    * before, affordable around a few folds only): a pleat on the rim of a part
-    * thinner than the point spacing, whose discs mix its two sides, may open only
-    * then. Default 4; at most max_swaps_in_a_row turns it off. */
+  /** \brief Where at most max_pairs_for_longer_runs pairs are left after the
+    * passes, swaps up to this many in a row around them, one more at a time: a pleat
+    * on the rim of a part thinner than the point spacing, whose discs mix its two
+    * sides, may open only then. Each swap more in a row multiplies the cost, which
+    * is affordable around a few folds only. Default 4; at most max_swaps_in_a_row
+    * turns it off. */
   int max_swaps_in_a_row_when_few = 4;
+  /** \brief See max_swaps_in_a_row_when_few. Default 8. */
+  std::size_t max_pairs_for_longer_runs = 8;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
     * triangles still intersecting); they stop at the first pass that lowers nothing.
     * Default 4: more passes rarely lower anything further. */
@@ -87,7 +92,8 @@ struct FoldRepairResult : StageStatus
   std::size_t pairs_before = 0, pairs_after = 0;
   /** \brief Discs re-meshed. */
   std::size_t regions_remeshed = 0;
-  /** \brief Edge swaps (single or in twos) that lowered the pair count. */
+  /** \brief Runs of edge swaps (one to max_swaps_in_a_row_when_few long) that
+    * lowered the pair count. */
   std::size_t swaps = 0;
 };
 
