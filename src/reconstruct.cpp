@@ -605,6 +605,10 @@ Conductor::finalVerdict ()
   }
   if (turns_back)
     return fail (turnsBackMessage ());
+  // Runs of swaps too costly for every attempt's repair, on the result kept.
+  if (report.mesh.self_intersecting_pairs > 0 &&
+      !finisher_.repairWithLongerRuns (result_.triangles, result_.normals, report))
+    return fail ("cancelled by the progress callback");
   if (report.mesh.self_intersecting_pairs > 0 && !options_.allow_self_intersections)
     return fail (std::to_string (report.mesh.self_intersecting_pairs) +
                  " pair(s) of triangles still intersect each other after the repair" +

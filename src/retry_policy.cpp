@@ -106,6 +106,22 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
 }
 
 bool
+MeshFinisher::repairWithLongerRuns (Triangles& triangles, const Normals& normals,
+                                    ReconstructionReport& report)
+{
+  FoldRepairResult runs;
+  if (!repairFolds (triangles, normals, report.mesh, "repair, longer runs", LongerSwapRuns::On, runs))
+    return false;
+  if (runs.regions_remeshed + runs.swaps == 0)
+    return true;
+  report.mesh = checkMesh (points_, triangles, check_);
+  report.fold_repair.regions_remeshed += runs.regions_remeshed;
+  report.fold_repair.swaps += runs.swaps;
+  report.fold_repair.pairs_after = report.mesh.self_intersecting_pairs;
+  return true;
+}
+
+bool
 MeshFinisher::checkAndRepairRaw (Triangles& triangles, const Normals& normals,
                                  FinishedMesh& finished, EdgeSwapOptions& swaps)
 {
@@ -221,7 +237,7 @@ MeshFinisher::finish (Triangles& triangles, const Normals& normals, FinishedMesh
   checkFinal (triangles, finished);
   // Local folds the swaps could not open: re-meshed, then checked again (the pair
   // list must be complete for the repair to trust it).
-  if (!repairFolds (triangles, normals, finished.mesh, "repair", LongerSwapRuns::On, finished.repair))
+  if (!repairFolds (triangles, normals, finished.mesh, "repair", LongerSwapRuns::Off, finished.repair))
     return "cancelled by the progress callback";
   if (finished.repair.regions_remeshed > 0 || finished.repair.swaps > 0)
     finished.mesh = checkMesh (points_, triangles, check_);

@@ -98,9 +98,16 @@ public:
   bool
   turnsBackUnrepaired (const Triangles& triangles, const Normals& normals) const;
 
+  /** \brief The last repair of a result that keeps a few pairs after every attempt:
+    * runs of swaps longer than each attempt's repair affords
+    * (FoldRepairOptions::max_swaps_in_a_row_when_few), then the check again; its
+    * runs and the pairs left go into report.fold_repair. Returns false if the
+    * progress callback said cancel. */
+  bool
+  repairWithLongerRuns (Triangles& triangles, const Normals& normals, ReconstructionReport& report);
+
 private:
-  /** `longer_runs`: FoldRepairOptions::max_swaps_in_a_row_when_few applies (the
-    * raw repair leaves its last pairs to the edge swaps, which open most of them). */
+  /** `longer_runs`: FoldRepairOptions::max_swaps_in_a_row_when_few applies. */
   bool
   repairFolds (Triangles& triangles, const Normals& normals, const MeshReport& mesh,
                const char* stage, LongerSwapRuns longer_runs, FoldRepairResult& repair,
