@@ -567,10 +567,28 @@ public:
     * twice, no degenerate triangle, and no triangle facing against its vertices'
     * normals (or against its partner's); each further swap next to the last.
     * Returns the decrease (0 if nothing changed). */
+  /** Swaps the searches may still try (trySwaps stops trying once none are left),
+    * and how many they have tried. */
+  void
+  setSwapBudget (std::size_t swaps)
+  {
+    swaps_left_ = swaps;
+  }
+  std::size_t
+  swapsTried () const
+  {
+    return swaps_tried_;
+  }
+  bool
+  swapBudgetSpent () const
+  {
+    return swaps_left_ == 0;
+  }
+
   std::size_t
   trySwaps (pcl::index_t v, int depth)
   {
-    const long gain = swapSearch (edgesThrough (v), depth, 0);
+    const long gain = swapSearch (edgesThrough (v), depth, 0, 0);
     return gain > 0 ? static_cast<std::size_t> (gain) : 0;
   }
 
@@ -830,6 +848,8 @@ private:
     bool counted = false;
   };
   static constexpr long unknown_gain = std::numeric_limits<long>::min ();
+  std::size_t swaps_left_ = std::numeric_limits<std::size_t>::max ();
+  std::size_t swaps_tried_ = 0;
 
   /** Puts `fresh` into `slots` (same order), keeping the stars, the grid and the
     * per-slot pair counts: the pairs the slots' triangles were in (`gone`) and
@@ -950,30 +970,49 @@ private:
     return true;
   }
 
-  /** Depth first: each edge of `edges` swapped in turn on top of the swaps made so
-    * far (which gained `so_far`); kept, with the total gain returned, as soon as
-    * that is positive, otherwise undone after trying up to `depth - 1` more swaps
-    * next to it. */
+  /** Depth first: each edge of `edges` swapped in turn on top of the `made` swaps
+    * made so far (which gained `so_far`); kept, with the total gain returned, as
+    * soon as that is positive, otherwise undone after trying up to `depth - 1` more
+    * swaps next to it: the second of a run on any edge through the first's four
+    * vertices, each later one on an outer edge of the two triangles the one before
+    * made. Stops trying once the swap budget is spent. */
   long
-  swapSearch (const std::vector<std::pair<pcl::index_t, pcl::index_t>>& edges, int depth, long so_far)
+  swapSearch (const std::vector<std::pair<pcl::index_t, pcl::index_t>>& edges, int depth, long so_far, int made)
   {
     for (const auto& [a, b] : edges) {
+      if (swaps_left_ == 0)
+        break;
       Swap swap;
       if (!swapFor (a, b, swap))
         continue;
+      --swaps_left_;
+      ++swaps_tried_;
       const long gain = apply (swap);
       if (gain != unknown_gain) {
         if (so_far + gain > 0)
           return so_far + gain;
         if (depth > 1) {
           std::vector<std::pair<pcl::index_t, pcl::index_t>> near;
-          for (const std::int32_t t : swap.slots)
-            for (const pcl::index_t x : triangles_[t])
-              for (const auto& edge : edgesThrough (x))
-                near.push_back (edge);
+          if (made == 0) {
+            for (const std::int32_t t : swap.slots)
+              for (const pcl::index_t x : triangles_[t])
+                for (const auto& edge : edgesThrough (x))
+                  near.push_back (edge);
+          }
+          else {
+            // Later in a run only the outer edges of the two triangles just made:
+            // a run continues where it changed the mesh, and the search's width
+            // no longer multiplies at every step.
+            for (const std::int32_t t : swap.slots)
+              for (int i = 0; i < 3; ++i) {
+                const pcl::index_t x = triangles_[t][i], y = triangles_[t][(i + 1) % 3];
+                if (!((x == a || x == b) && (y == a || y == b)))
+                  near.emplace_back (std::min (x, y), std::max (x, y));
+              }
+          }
           std::sort (near.begin (), near.end ());
           near.erase (std::unique (near.begin (), near.end ()), near.end ());
-          const long total = swapSearch (near, depth - 1, so_far + gain);
+          const long total = swapSearch (near, depth - 1, so_far + gain, made + 1);
           if (total > 0)
             return total;
         }
@@ -1272,13 +1311,18 @@ repairFoldsByReinsertion (const Points3& points,
       if (result.pairs_after == at_start)
         break; // the next pass would start from the same triangles
     }
+    const std::size_t tried_before = repair.swapsTried ();
+    repair.setSwapBudget (options.max_swaps_tried_in_longer_runs);
     for (int in_a_row = options.max_swaps_in_a_row + 1;
          options.swaps && in_a_row <= options.max_swaps_in_a_row_when_few &&
-         result.pairs_after > 0 && result.pairs_after <= options.max_pairs_for_longer_runs;
+         result.pairs_after > 0 && result.pairs_after <= options.max_pairs_for_longer_runs &&
+         !repair.swapBudgetSpent ();
          ++in_a_row) {
       const auto run = [&] (pcl::index_t v) { return repair.trySwaps (v, in_a_row); };
       rounds (stillIntersecting (), run, result.swaps);
     }
+    result.longer_run_swaps_tried = repair.swapsTried () - tried_before;
+    result.longer_runs_cut_short = result.longer_run_swaps_tried > 0 && repair.swapBudgetSpent ();
   }
   catch (const std::bad_alloc&) {
     result.message = "out of memory";

@@ -102,7 +102,12 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
                       std::to_string (repair.pairs_before) + " -> " +
                           std::to_string (repair.pairs_after) + " intersecting pairs, " +
                           std::to_string (repair.regions_remeshed) + " discs re-meshed, " +
-                          std::to_string (repair.swaps) + " runs of swaps");
+                          std::to_string (repair.swaps) + " runs of swaps" +
+                          (longer_runs == LongerSwapRuns::On
+                               ? ", " + std::to_string (repair.longer_run_swaps_tried) +
+                                     " swaps tried in longer runs" +
+                                     (repair.longer_runs_cut_short ? " (the limit)" : "")
+                               : std::string ()));
 }
 
 bool

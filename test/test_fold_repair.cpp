@@ -420,3 +420,36 @@ TEST (FoldRepair, LongerRunsOfSwapsWhereFewPairsAreLeft)
   repaired (many, fold, by_four_any, swapsOnly (4, fold.self_intersecting_pairs));
   EXPECT_LT (by_four_any.pairs_after, by_two.pairs_after);
 }
+
+TEST (FoldRepair, LongerRunsStopAtTheirSwapLimit)
+{
+  // The longer runs branch at every step: their search must stop at the limit,
+  // say so, and leave a mesh no worse than the short runs did.
+  const Mesh sphere = geodesicSphere (12);
+  const Mesh folded = foldPastNeighbour (sphere, 900, 1.2);
+  const MeshReport fold = checkAll (folded);
+  FoldRepairResult by_two, unlimited, limited, none;
+  const Mesh with_two = repaired (folded, fold, by_two, swapsOnly (2));
+  ASSERT_GT (by_two.pairs_after, 0u);
+  EXPECT_EQ (by_two.longer_run_swaps_tried, 0u);
+
+  repaired (folded, fold, unlimited, swapsOnly (4));
+  ASSERT_GT (unlimited.longer_run_swaps_tried, 20u);
+  EXPECT_LE (unlimited.longer_run_swaps_tried, FoldRepairOptions ().max_swaps_tried_in_longer_runs);
+  EXPECT_FALSE (unlimited.longer_runs_cut_short);
+
+  FoldRepairOptions few_swaps = swapsOnly (4);
+  few_swaps.max_swaps_tried_in_longer_runs = 20;
+  const Mesh cut = repaired (folded, fold, limited, few_swaps);
+  EXPECT_EQ (limited.longer_run_swaps_tried, 20u);
+  EXPECT_TRUE (limited.longer_runs_cut_short);
+  const MeshReport after = checkAll (cut);
+  EXPECT_LE (limited.pairs_after, by_two.pairs_after);
+  EXPECT_EQ (limited.pairs_after, after.self_intersecting_pairs);
+  expectSameSphere (folded, cut, after);
+
+  few_swaps.max_swaps_tried_in_longer_runs = 0;
+  EXPECT_EQ (repaired (folded, fold, none, few_swaps).triangles, with_two.triangles);
+  EXPECT_EQ (none.longer_run_swaps_tried, 0u);
+  EXPECT_FALSE (none.longer_runs_cut_short);
+}

@@ -63,6 +63,10 @@ struct FoldRepairOptions
   int max_swaps_in_a_row_when_few = 4;
   /** \brief See max_swaps_in_a_row_when_few. Default 8. */
   std::size_t max_pairs_for_longer_runs = 8;
+  /** \brief The longer runs stop after trying this many swaps in all: a run
+    * branches at every step, and around folds that no run opens the search would
+    * otherwise go on for seconds. Default 20000 (a fraction of a second). */
+  std::size_t max_swaps_tried_in_longer_runs = 20000;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
     * triangles still intersecting); they stop at the first pass that lowers nothing.
     * Default 4: more passes rarely lower anything further. */
@@ -95,6 +99,10 @@ struct FoldRepairResult : StageStatus
   /** \brief Runs of edge swaps (one to max_swaps_in_a_row_when_few long) that
     * lowered the pair count. */
   std::size_t swaps = 0;
+  /** \brief Swaps tried in the longer runs, and whether they stopped at
+    * FoldRepairOptions::max_swaps_tried_in_longer_runs. */
+  std::size_t longer_run_swaps_tried = 0;
+  bool longer_runs_cut_short = false;
 };
 
 /** \brief The region repairFoldsByReinsertion re-meshes around the vertices
