@@ -32,6 +32,23 @@ generatedCloud (pcl::meshless::SyntheticShape shape, std::size_t n, std::uint32_
   return cloud;
 }
 
+/** Limbs a few spacings thick with noise and 10:1 density: the generated class
+  * whose first base mesh keeps a few folds that the retries remove. */
+pcl::PointCloud<pcl::PointXYZ>::Ptr
+foldingLimbs (std::size_t n, double noise, std::uint32_t seed)
+{
+  pcl::meshless::SyntheticCloudOptions options;
+  options.num_points = n;
+  options.seed = seed;
+  options.noise = noise;
+  options.uneven = 10.0;
+  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
+  for (const auto& p : pcl::meshless::sampleShape (pcl::meshless::SyntheticShape::ThinLimbs, options))
+    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
+                                     static_cast<float> (p.z ())));
+  return cloud;
+}
+
 /** Invariants of a successful result over the cloud indices `expected_vertices`. */
 void
 expectClosedGenusZero (const std::vector<pcl::Vertices>& polygons,
@@ -354,25 +371,19 @@ TEST (SphericalMeshlessReconstruction, FandiskHasThePapersTriangleCountAndNoInte
 
 TEST (SphericalMeshlessReconstruction, OtherBaseMeshesAreTriedWhilePairsRemain)
 {
-  // cow_igl keeps pairs with the first base mesh: the retries try the next ones
+  // Thin limbs whose first base mesh keeps pairs: the retries try the next ones
   // and keep a result only if it has fewer pairs; none when switched off. (Such
   // a result only comes back when asked for.)
-  MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/cow_igl.pcd");
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
-  // Without the angle pass: with it (and its flips inside the patches, see
-  // flipFlatEdgesInPatch) the first base mesh leaves no pairs on cow_igl any more.
-  pcl::meshless::EdgeSwapOptions no_angle_pass;
-  no_angle_pass.improve_angles = false;
-  reconstruction.setOptimizationOptions (no_angle_pass);
+  reconstruction.setInputCloud (foldingLimbs (5000, 0.002, 1));
   reconstruction.setAllowSelfIntersections (true);
   reconstruction.setBaseRetries (0);
   std::vector<pcl::Vertices> first;
-  ASSERT_TRUE (reconstructFile (path, reconstruction, first)) << path;
+  reconstruction.reconstruct (first);
   const auto once = reconstruction.getReport ();
   ASSERT_TRUE (once.success) << once.message;
   EXPECT_EQ (once.base_retries, 0u);
-  if (once.mesh.self_intersecting_pairs == 0)
-    GTEST_SKIP () << "the first base mesh leaves no pairs any more: nothing to retry";
+  ASSERT_GT (once.mesh.self_intersecting_pairs, 0u) << "the fixture no longer folds: choose another";
 
   reconstruction.setBaseRetries (2);
   std::vector<pcl::Vertices> polygons;
@@ -400,19 +411,13 @@ TEST (SphericalMeshlessReconstruction, OtherBaseMeshesAreTriedWhilePairsRemain)
 
 TEST (SphericalMeshlessReconstruction, FoldsLeftAreRetriedWithTwoMoreNeighbours)
 {
-  // A random 93% subset of bunny_igl (each point kept with probability 0.93; the
-  // generator's seed 2): with k = 12 every base mesh leaves folds at an ear, a
-  // sheet thinner than the spacing there; with k + 2 neighbours the sequence ends
-  // without any. Retries off, no denser pass.
-  MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/bunny_igl.pcd");
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
-  ASSERT_EQ (pcl::io::loadPCDFile (path, *cloud), 0);
-  std::mt19937 random (2);
-  std::uniform_real_distribution<double> unit (0.0, 1.0);
+  // Thin limbs (every point, passed through setIndices) where every base mesh
+  // leaves folds with k = 12 and the sequence with k + 2 neighbours ends without
+  // any. Retries off: the folds stay.
+  auto cloud = foldingLimbs (5000, 0.001, 1);
   auto subset = pcl::make_shared<pcl::Indices> ();
   for (std::size_t i = 0; i < cloud->size (); ++i)
-    if (unit (random) < 0.93)
-      subset->push_back (static_cast<pcl::index_t> (i));
+    subset->push_back (static_cast<pcl::index_t> (i));
   std::set<pcl::index_t> vertices (subset->begin (), subset->end ());
 
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
@@ -424,9 +429,7 @@ TEST (SphericalMeshlessReconstruction, FoldsLeftAreRetriedWithTwoMoreNeighbours)
   ASSERT_TRUE (report.success) << report.message;
   expectClosedGenusZero (polygons, vertices);
   EXPECT_EQ (report.mesh.self_intersecting_pairs, 0u);
-  if (report.neighbours_k == 12)
-    GTEST_SKIP () << "12 neighbours leave no folds here any more: nothing to retry";
-  EXPECT_EQ (report.neighbours_k, 14);
+  ASSERT_EQ (report.neighbours_k, 14) << "the fixture no longer folds with 12: choose another";
 
   reconstruction.setBaseRetries (0);
   reconstruction.setAllowSelfIntersections (true);
@@ -438,33 +441,25 @@ TEST (SphericalMeshlessReconstruction, FoldsLeftAreRetriedWithTwoMoreNeighbours)
 
 TEST (SphericalMeshlessReconstruction, PairsLeftFailUnlessAllowed)
 {
-  // cow_igl without retries keeps pairs (the first base mesh's result): by
+  // Thin limbs without retries keep pairs (the first base mesh's result): by
   // default a failure naming them and the setter, with an empty mesh; allowed, the
   // closed mesh with the same count.
-  MESHLESS_REQUIRE_SHARED_FILE (path, "clouds/cow_igl.pcd");
+  const auto cloud = foldingLimbs (5000, 0.002, 1);
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
-  // Without the angle pass (see OtherBaseMeshesAreTriedWhilePairsRemain).
-  pcl::meshless::EdgeSwapOptions no_angle_pass;
-  no_angle_pass.improve_angles = false;
-  reconstruction.setOptimizationOptions (no_angle_pass);
+  reconstruction.setInputCloud (cloud);
   EXPECT_FALSE (reconstruction.getAllowSelfIntersections ());
   reconstruction.setBaseRetries (0);
   reconstruction.setAllowSelfIntersections (true);
   std::vector<pcl::Vertices> kept;
-  ASSERT_TRUE (reconstructFile (path, reconstruction, kept)) << path;
+  reconstruction.reconstruct (kept);
   const auto allowed = reconstruction.getReport ();
   ASSERT_TRUE (allowed.success) << allowed.message;
   expectClosedGenusZero (kept, range (allowed.num_points));
   // The final check tests only pairs with a triangle changed since the raw check
   // (MeshCheckOptions::known_apart): it counts what a full check of the result
   // counts.
-  {
-    pcl::PointCloud<pcl::PointXYZ> cloud;
-    ASSERT_EQ (pcl::io::loadPCDFile (path, cloud), 0);
-    EXPECT_EQ (fullCheckPairs (cloud, kept), allowed.mesh.self_intersecting_pairs);
-  }
-  if (allowed.mesh.self_intersecting_pairs == 0)
-    GTEST_SKIP () << "the first base mesh leaves no pairs any more: nothing to refuse";
+  EXPECT_EQ (fullCheckPairs (*cloud, kept), allowed.mesh.self_intersecting_pairs);
+  ASSERT_GT (allowed.mesh.self_intersecting_pairs, 0u) << "the fixture no longer folds: choose another";
   // Pairs the raw repair left are counted by the swaps (they are told that the mesh
   // is free of pairs only where it is).
   if (allowed.raw_fold_repair.pairs_before > 0)
