@@ -1233,6 +1233,13 @@ repairFoldsByReinsertion (const Points3& points,
         result.message = "a triangle names a vertex out of range";
         return result;
       }
+  // A tangle: its cost grows with the crossings, and no local step lowers them.
+  if (static_cast<double> (pairs.size ()) >
+      options.max_pairs_per_triangle * static_cast<double> (triangles.size ())) {
+    result.tangle = true;
+    result.success = true;
+    return result;
+  }
   // Grid cells of about two mean edge lengths.
   double total = 0.0;
   for (const Triangle& t : triangles)

@@ -98,6 +98,11 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
     repair_options.max_swaps_in_a_row_when_few = repair_options.max_swaps_in_a_row;
   repair_options.num_threads = static_cast<int> (options_.num_threads);
   repair = repairFoldsByReinsertion (points_, triangles, mesh.intersecting_pairs, repair_options);
+  if (repair.tangle)
+    return clock_.done (stage, 1.0,
+                        "not tried: " + std::to_string (repair.pairs_before) +
+                            " intersecting pairs among " + std::to_string (triangles.size ()) +
+                            " triangles, a tangle rather than folds");
   return clock_.done (stage, 1.0,
                       std::to_string (repair.pairs_before) + " -> " +
                           std::to_string (repair.pairs_after) + " intersecting pairs, " +

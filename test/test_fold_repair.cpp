@@ -453,3 +453,33 @@ TEST (FoldRepair, LongerRunsStopAtTheirSwapLimit)
   EXPECT_EQ (none.longer_run_swaps_tried, 0u);
   EXPECT_FALSE (none.longer_runs_cut_short);
 }
+
+TEST (FoldRepair, TanglesAreLeftAlone)
+{
+  // Where the pairs outnumber the limit per triangle the repair tries nothing and
+  // says so; just under it, the same mesh is repaired as before.
+  const Mesh sphere = geodesicSphere (12);
+  const Mesh folded = foldPastNeighbour (sphere, 900, 1.2);
+  const MeshReport fold = checkAll (folded);
+  ASSERT_GT (fold.self_intersecting_pairs, 0u);
+  const double density =
+      static_cast<double> (fold.self_intersecting_pairs) / static_cast<double> (folded.triangles.size ());
+
+  FoldRepairOptions below;
+  below.max_pairs_per_triangle = 0.99 * density;
+  FoldRepairResult tangle;
+  EXPECT_EQ (repaired (folded, fold, tangle, below).triangles, folded.triangles);
+  EXPECT_TRUE (tangle.success);
+  EXPECT_TRUE (tangle.tangle);
+  EXPECT_EQ (tangle.pairs_before, fold.self_intersecting_pairs);
+  EXPECT_EQ (tangle.pairs_after, fold.self_intersecting_pairs);
+  EXPECT_EQ (tangle.regions_remeshed + tangle.swaps, 0u);
+
+  FoldRepairOptions above;
+  above.max_pairs_per_triangle = 1.01 * density;
+  FoldRepairResult folds, by_default;
+  const Mesh with_limit = repaired (folded, fold, folds, above);
+  EXPECT_FALSE (folds.tangle);
+  EXPECT_LT (folds.pairs_after, folds.pairs_before);
+  EXPECT_EQ (with_limit.triangles, repaired (folded, fold, by_default, FoldRepairOptions ()).triangles);
+}

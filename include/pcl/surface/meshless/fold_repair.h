@@ -67,6 +67,12 @@ struct FoldRepairOptions
     * branches at every step, and around folds that no run opens the search would
     * otherwise go on for seconds. Default 20000 (a fraction of a second). */
   std::size_t max_swaps_tried_in_longer_runs = 20000;
+  /** \brief Not repaired where the pairs number more than this many per
+    * triangle: the triangles then cross each other everywhere (a tangle, not
+    * local folds), no disc or swap around one fold lowers the count, and every
+    * test meets many triangles. Default 0.5 (folds the repair removes on thin
+    * parts stay below a fifth). */
+  double max_pairs_per_triangle = 0.5;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
     * triangles still intersecting); they stop at the first pass that lowers nothing.
     * Default 4: more passes rarely lower anything further. */
@@ -103,6 +109,9 @@ struct FoldRepairResult : StageStatus
     * FoldRepairOptions::max_swaps_tried_in_longer_runs. */
   std::size_t longer_run_swaps_tried = 0;
   bool longer_runs_cut_short = false;
+  /** \brief Nothing was tried: more pairs than
+    * FoldRepairOptions::max_pairs_per_triangle per triangle. */
+  bool tangle = false;
 };
 
 /** \brief The region repairFoldsByReinsertion re-meshes around the vertices
