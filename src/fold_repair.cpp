@@ -560,19 +560,13 @@ public:
     return before - after;
   }
 
-  /** Swaps of the edges through v, up to `depth` in a row, that lower the number of
-    * intersecting pairs: where a thin part's two sides come closer than the point
-    * spacing, a triangle across the part can often be turned away by a swap where
-    * no disc around v projects simply. A swap is tried only if it creates no edge
-    * twice, no degenerate triangle, and no triangle facing against its vertices'
-    * normals (or against its partner's); each further swap next to the last.
-    * Returns the decrease (0 if nothing changed). */
   /** Swaps the searches may still try (trySwaps stops trying once none are left),
-    * and how many they have tried. */
+    * how many they have tried, and whether a swap was refused for want of budget. */
   void
   setSwapBudget (std::size_t swaps)
   {
     swaps_left_ = swaps;
+    swap_refused_ = false;
   }
   std::size_t
   swapsTried () const
@@ -580,11 +574,18 @@ public:
     return swaps_tried_;
   }
   bool
-  swapBudgetSpent () const
+  swapRefused () const
   {
-    return swaps_left_ == 0;
+    return swap_refused_;
   }
 
+  /** Swaps of the edges through v, up to `depth` in a row, that lower the number of
+    * intersecting pairs: where a thin part's two sides come closer than the point
+    * spacing, a triangle across the part can often be turned away by a swap where
+    * no disc around v projects simply. A swap is tried only if it creates no edge
+    * twice, no degenerate triangle, and no triangle facing against its vertices'
+    * normals (or against its partner's); each further swap next to the last.
+    * Returns the decrease (0 if nothing changed). */
   std::size_t
   trySwaps (pcl::index_t v, int depth)
   {
@@ -850,6 +851,7 @@ private:
   static constexpr long unknown_gain = std::numeric_limits<long>::min ();
   std::size_t swaps_left_ = std::numeric_limits<std::size_t>::max ();
   std::size_t swaps_tried_ = 0;
+  bool swap_refused_ = false;
 
   /** Puts `fresh` into `slots` (same order), keeping the stars, the grid and the
     * per-slot pair counts: the pairs the slots' triangles were in (`gone`) and
@@ -980,11 +982,13 @@ private:
   swapSearch (const std::vector<std::pair<pcl::index_t, pcl::index_t>>& edges, int depth, long so_far, int made)
   {
     for (const auto& [a, b] : edges) {
-      if (swaps_left_ == 0)
-        break;
       Swap swap;
       if (!swapFor (a, b, swap))
         continue;
+      if (swaps_left_ == 0) {
+        swap_refused_ = true;
+        break;
+      }
       --swaps_left_;
       ++swaps_tried_;
       const long gain = apply (swap);
@@ -1006,12 +1010,16 @@ private:
             for (const std::int32_t t : swap.slots)
               for (int i = 0; i < 3; ++i) {
                 const pcl::index_t x = triangles_[t][i], y = triangles_[t][(i + 1) % 3];
-                if (!((x == a || x == b) && (y == a || y == b)))
-                  near.emplace_back (std::min (x, y), std::max (x, y));
+                near.emplace_back (std::min (x, y), std::max (x, y));
               }
           }
           std::sort (near.begin (), near.end ());
           near.erase (std::unique (near.begin (), near.end ()), near.end ());
+          // Not the new diagonal: swapping it back only undoes this swap.
+          const pcl::index_t c = swap.after[0][1], d = swap.after[0][2];
+          near.erase (std::remove (near.begin (), near.end (),
+                                   std::make_pair (std::min (c, d), std::max (c, d))),
+                      near.end ());
           const long total = swapSearch (near, depth - 1, so_far + gain, made + 1);
           if (total > 0)
             return total;
@@ -1233,6 +1241,10 @@ repairFoldsByReinsertion (const Points3& points,
         result.message = "a triangle names a vertex out of range";
         return result;
       }
+  if (!(options.max_pairs_per_triangle >= 0.0)) {
+    result.message = "max_pairs_per_triangle must be a number >= 0";
+    return result;
+  }
   // A tangle: its cost grows with the crossings, and no local step lowers them.
   if (static_cast<double> (pairs.size ()) >
       options.max_pairs_per_triangle * static_cast<double> (triangles.size ())) {
@@ -1321,15 +1333,16 @@ repairFoldsByReinsertion (const Points3& points,
     const std::size_t tried_before = repair.swapsTried ();
     repair.setSwapBudget (options.max_swaps_tried_in_longer_runs);
     for (int in_a_row = options.max_swaps_in_a_row + 1;
-         options.swaps && in_a_row <= options.max_swaps_in_a_row_when_few &&
+         options.swaps && options.max_swaps_tried_in_longer_runs > 0 &&
+         in_a_row <= options.max_swaps_in_a_row_when_few &&
          result.pairs_after > 0 && result.pairs_after <= options.max_pairs_for_longer_runs &&
-         !repair.swapBudgetSpent ();
+         !repair.swapRefused ();
          ++in_a_row) {
       const auto run = [&] (pcl::index_t v) { return repair.trySwaps (v, in_a_row); };
       rounds (stillIntersecting (), run, result.swaps);
     }
     result.longer_run_swaps_tried = repair.swapsTried () - tried_before;
-    result.longer_runs_cut_short = result.longer_run_swaps_tried > 0 && repair.swapBudgetSpent ();
+    result.longer_runs_cut_short = repair.swapRefused ();
   }
   catch (const std::bad_alloc&) {
     result.message = "out of memory";

@@ -611,9 +611,13 @@ Conductor::finalVerdict ()
     return fail ("cancelled by the progress callback");
   if (report.mesh.self_intersecting_pairs > 0 && !options_.allow_self_intersections)
     return fail (std::to_string (report.mesh.self_intersecting_pairs) +
-                 " pair(s) of triangles still intersect each other after the repair" +
-                 (closed_ ? " and the retries, in local folds" : "") +
-                 " (parts thinner than the point spacing, or noise): the mesh is " +
+                 " pair(s) of triangles still intersect each other " +
+                 (report.fold_repair.tangle
+                      ? std::string ("(a tangle rather than local folds, not repaired)")
+                      : std::string ("after the repair") +
+                            (closed_ ? " and the retries, in local folds" : "") +
+                            " (parts thinner than the point spacing, or noise)") +
+                 ": the mesh is " +
                  (closed_ ? "closed" : "manifold") +
                  " but not embedded (setAllowSelfIntersections (true) returns it anyway; "
                  "more neighbours or a denser sample may avoid the folds)");

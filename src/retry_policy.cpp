@@ -122,6 +122,9 @@ MeshFinisher::repairWithLongerRuns (Triangles& triangles, const Normals& normals
   FoldRepairResult runs;
   if (!repairFolds (triangles, normals, report.mesh, "repair, longer runs", LongerSwapRuns::On, runs))
     return false;
+  report.fold_repair.longer_run_swaps_tried = runs.longer_run_swaps_tried;
+  report.fold_repair.longer_runs_cut_short = runs.longer_runs_cut_short;
+  report.fold_repair.tangle = runs.tangle;
   if (runs.regions_remeshed + runs.swaps == 0)
     return true;
   report.mesh = checkMesh (points_, triangles, check_);

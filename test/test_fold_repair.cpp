@@ -428,15 +428,15 @@ TEST (FoldRepair, LongerRunsStopAtTheirSwapLimit)
   const Mesh sphere = geodesicSphere (12);
   const Mesh folded = foldPastNeighbour (sphere, 900, 1.2);
   const MeshReport fold = checkAll (folded);
-  FoldRepairResult by_two, unlimited, limited, none;
+  FoldRepairResult by_two, default_limit, limited, none;
   const Mesh with_two = repaired (folded, fold, by_two, swapsOnly (2));
   ASSERT_GT (by_two.pairs_after, 0u);
   EXPECT_EQ (by_two.longer_run_swaps_tried, 0u);
 
-  repaired (folded, fold, unlimited, swapsOnly (4));
-  ASSERT_GT (unlimited.longer_run_swaps_tried, 20u);
-  EXPECT_LE (unlimited.longer_run_swaps_tried, FoldRepairOptions ().max_swaps_tried_in_longer_runs);
-  EXPECT_FALSE (unlimited.longer_runs_cut_short);
+  repaired (folded, fold, default_limit, swapsOnly (4));
+  ASSERT_GT (default_limit.longer_run_swaps_tried, 20u);
+  EXPECT_LE (default_limit.longer_run_swaps_tried, FoldRepairOptions ().max_swaps_tried_in_longer_runs);
+  EXPECT_FALSE (default_limit.longer_runs_cut_short);
 
   FoldRepairOptions few_swaps = swapsOnly (4);
   few_swaps.max_swaps_tried_in_longer_runs = 20;

@@ -63,15 +63,19 @@ struct FoldRepairOptions
   int max_swaps_in_a_row_when_few = 4;
   /** \brief See max_swaps_in_a_row_when_few. Default 8. */
   std::size_t max_pairs_for_longer_runs = 8;
-  /** \brief The longer runs stop after trying this many swaps in all: a run
-    * branches at every step, and around folds that no run opens the search would
-    * otherwise go on for seconds. Default 20000 (a fraction of a second). */
+  /** \brief The runs longer than max_swaps_in_a_row (all their lengths
+    * together) stop after trying this many swaps: a run branches at every step,
+    * and around folds that no run opens the search would otherwise go on long.
+    * In a run, the second swap is tried on every edge through the first's four
+    * vertices, each later one on the outer edges of the two triangles the one
+    * before made. 0 turns the longer runs off; the runs up to max_swaps_in_a_row
+    * are not limited. Default 20000. */
   std::size_t max_swaps_tried_in_longer_runs = 20000;
-  /** \brief Not repaired where the pairs number more than this many per
-    * triangle: the triangles then cross each other everywhere (a tangle, not
-    * local folds), no disc or swap around one fold lowers the count, and every
-    * test meets many triangles. Default 0.5 (folds the repair removes on thin
-    * parts stay below a fifth). */
+  /** \brief Nothing is tried where the pairs number more than this many times
+    * the triangles: a tangle rather than local folds, where no disc or swap around
+    * one fold lowers the count and every test meets many triangles. The measure is
+    * over the whole mesh. Default 0.5 (the densities the repair serves are in
+    * doc/benchmarks.md). */
   double max_pairs_per_triangle = 0.5;
   /** \brief Passes of discs then swaps (a pass after the first starts from the
     * triangles still intersecting); they stop at the first pass that lowers nothing.
@@ -105,8 +109,8 @@ struct FoldRepairResult : StageStatus
   /** \brief Runs of edge swaps (one to max_swaps_in_a_row_when_few long) that
     * lowered the pair count. */
   std::size_t swaps = 0;
-  /** \brief Swaps tried in the longer runs, and whether they stopped at
-    * FoldRepairOptions::max_swaps_tried_in_longer_runs. */
+  /** \brief Swaps tried in the runs longer than max_swaps_in_a_row, and whether
+    * FoldRepairOptions::max_swaps_tried_in_longer_runs stopped them. */
   std::size_t longer_run_swaps_tried = 0;
   bool longer_runs_cut_short = false;
   /** \brief Nothing was tried: more pairs than
@@ -149,7 +153,9 @@ closedDiscRegion (const Triangles& triangles,
   *   intersecting_pairs, listed in full)
   * \param[in] options see FoldRepairOptions
   * \return fails (leaving the triangles untouched) if the mesh is not closed and
-  *   manifold where a re-meshing would act
+  *   manifold where a re-meshing would act, or an option is invalid; succeeds
+  *   with the triangles untouched and `tangle` set where the pairs exceed
+  *   FoldRepairOptions::max_pairs_per_triangle
   */
 FoldRepairResult
 repairFoldsByReinsertion (const Points3& points,
