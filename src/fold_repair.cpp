@@ -561,7 +561,7 @@ public:
   }
 
   /** Swaps the searches may still try (trySwaps stops trying once none are left),
-    * how many they have tried, and whether a swap was refused for want of budget. */
+    * and whether a swap was refused for want of them. */
   void
   setSwapBudget (std::size_t swaps)
   {
@@ -569,9 +569,9 @@ public:
     swap_refused_ = false;
   }
   std::size_t
-  swapsTried () const
+  swapsLeft () const
   {
-    return swaps_tried_;
+    return swaps_left_;
   }
   bool
   swapRefused () const
@@ -850,7 +850,6 @@ private:
   };
   static constexpr long unknown_gain = std::numeric_limits<long>::min ();
   std::size_t swaps_left_ = std::numeric_limits<std::size_t>::max ();
-  std::size_t swaps_tried_ = 0;
   bool swap_refused_ = false;
 
   /** Puts `fresh` into `slots` (same order), keeping the stars, the grid and the
@@ -990,7 +989,6 @@ private:
         break;
       }
       --swaps_left_;
-      ++swaps_tried_;
       const long gain = apply (swap);
       if (gain != unknown_gain) {
         if (so_far + gain > 0)
@@ -1330,7 +1328,6 @@ repairFoldsByReinsertion (const Points3& points,
       if (result.pairs_after == at_start)
         break; // the next pass would start from the same triangles
     }
-    const std::size_t tried_before = repair.swapsTried ();
     repair.setSwapBudget (options.max_swaps_tried_in_longer_runs);
     for (int in_a_row = options.max_swaps_in_a_row + 1;
          options.swaps && options.max_swaps_tried_in_longer_runs > 0 &&
@@ -1341,7 +1338,7 @@ repairFoldsByReinsertion (const Points3& points,
       const auto run = [&] (pcl::index_t v) { return repair.trySwaps (v, in_a_row); };
       rounds (stillIntersecting (), run, result.swaps);
     }
-    result.longer_run_swaps_tried = repair.swapsTried () - tried_before;
+    result.longer_run_swaps_tried = options.max_swaps_tried_in_longer_runs - repair.swapsLeft ();
     result.longer_runs_cut_short = repair.swapRefused ();
   }
   catch (const std::bad_alloc&) {

@@ -19,10 +19,10 @@ namespace {
 
 template <typename PointT>
 typename pcl::PointCloud<PointT>::Ptr
-generatedCloud (pcl::meshless::SyntheticShape shape, std::size_t n, std::uint32_t seed = 1)
+generatedCloud (pcl::meshless::SyntheticShape shape, const pcl::meshless::SyntheticCloudOptions& options)
 {
   auto cloud = pcl::make_shared<pcl::PointCloud<PointT>> ();
-  for (const auto& p : pcl::meshless::sampleShape (shape, {n, seed, 0.0})) {
+  for (const auto& p : pcl::meshless::sampleShape (shape, options)) {
     PointT q;
     q.x = static_cast<float> (p.x ());
     q.y = static_cast<float> (p.y ());
@@ -30,6 +30,13 @@ generatedCloud (pcl::meshless::SyntheticShape shape, std::size_t n, std::uint32_
     cloud->push_back (q);
   }
   return cloud;
+}
+
+template <typename PointT>
+typename pcl::PointCloud<PointT>::Ptr
+generatedCloud (pcl::meshless::SyntheticShape shape, std::size_t n, std::uint32_t seed = 1)
+{
+  return generatedCloud<PointT> (shape, {n, seed, 0.0});
 }
 
 /** Limbs a few spacings thick with noise and 10:1 density: the generated class
@@ -42,11 +49,7 @@ foldingLimbs (std::size_t n, double noise, std::uint32_t seed)
   options.seed = seed;
   options.noise = noise;
   options.uneven = 10.0;
-  auto cloud = pcl::make_shared<pcl::PointCloud<pcl::PointXYZ>> ();
-  for (const auto& p : pcl::meshless::sampleShape (pcl::meshless::SyntheticShape::ThinLimbs, options))
-    cloud->push_back (pcl::PointXYZ (static_cast<float> (p.x ()), static_cast<float> (p.y ()),
-                                     static_cast<float> (p.z ())));
-  return cloud;
+  return generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::ThinLimbs, options);
 }
 
 /** Invariants of a successful result over the cloud indices `expected_vertices`. */
