@@ -97,9 +97,11 @@ withSteppedOverPoints (const Points3& points,
 }
 
 /** \brief Whether a loop encloses a disc wider than the sample's own gaps: its
-  * points lie at least `radius` loop edges (the median) from its centroid. */
+  * points lie at least `radius` loop edges (the median) from its centroid, and,
+  * if `spacing` is given, at least `radius` times its points' median spacing. */
 bool
-wideEnoughForAHole (const Points3& points, const std::vector<pcl::index_t>& loop, double radius)
+wideEnoughForAHole (const Points3& points, const std::vector<pcl::index_t>& loop, double radius,
+                    const std::vector<double>& spacing = {})
 {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
   for (const auto v : loop)
@@ -111,8 +113,31 @@ wideEnoughForAHole (const Points3& points, const std::vector<pcl::index_t>& loop
     nearest = std::min (nearest, (points[loop[k]] - centroid).norm ());
     edges[k] = (points[loop[(k + 1) % loop.size ()]] - points[loop[k]]).norm ();
   }
-  std::nth_element (edges.begin (), edges.begin () + edges.size () / 2, edges.end ());
-  return nearest >= radius * edges[edges.size () / 2];
+  auto median = [] (std::vector<double>& values) {
+    std::nth_element (values.begin (), values.begin () + values.size () / 2, values.end ());
+    return values[values.size () / 2];
+  };
+  if (nearest < radius * median (edges))
+    return false;
+  if (spacing.size () != points.size ())
+    return true;
+  std::vector<double> local (loop.size ());
+  for (std::size_t k = 0; k < loop.size (); ++k)
+    local[k] = spacing[loop[k]];
+  return nearest >= radius * median (local);
+}
+
+/** \brief sampleSpacing of every point over its row of `neighbourhoods`. */
+std::vector<double>
+sampleSpacings (const Points3& points, const CsrGraph& neighbourhoods)
+{
+  std::vector<double> spacing (points.size (), 0.0), distances;
+  for (std::size_t v = 0; v < points.size (); ++v) {
+    const auto vi = static_cast<pcl::index_t> (v);
+    spacing[v] = sampleSpacing (points, vi, neighbourhoods.begin (vi), neighbourhoods.end (vi),
+                                distances);
+  }
+  return spacing;
 }
 
 } // namespace
@@ -124,7 +149,8 @@ findBoundaryLoops (const Points3& points,
                    const CsrGraph& mutual,
                    const std::vector<float>& largest_gap,
                    double min_gap,
-                   std::size_t min_loop)
+                   std::size_t min_loop,
+                   const std::vector<double>& spacing)
 {
   BoundaryLoops result;
   const std::size_t n = points.size ();
@@ -230,7 +256,7 @@ findBoundaryLoops (const Points3& points,
     result.loops.erase (std::remove_if (result.loops.begin () + 1, result.loops.end (),
                                         [&] (const auto& loop) {
                                           return !wideEnoughForAHole (points, loop,
-                                                                      min_hole_radius);
+                                                                      min_hole_radius, spacing);
                                         }),
                         result.loops.end ());
   result.success = !result.loops.empty ();
@@ -245,12 +271,7 @@ openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangle
                  double max_span)
 {
   const std::size_t n = points.size ();
-  std::vector<double> spacing (n, 0.0), distances;
-  for (std::size_t v = 0; v < n; ++v) {
-    const auto vi = static_cast<pcl::index_t> (v);
-    spacing[v] = nearestSpacing (points, vi, neighbourhoods.begin (vi), neighbourhoods.end (vi),
-                                 distances);
-  }
+  const std::vector<double> spacing = sampleSpacings (points, neighbourhoods);
   auto spans = [&] (const Triangle& t) {
     for (int e = 0; e < 3; ++e) {
       const pcl::index_t a = t[e], b = t[(e + 1) % 3];
@@ -322,7 +343,8 @@ triangulateDisc (const Points3& points,
   }
 
   const BoundaryLoops boundary =
-      findBoundaryLoops (points, ordered.normals, ordered.rings, surface.mutual, ordered.largest_gap);
+      findBoundaryLoops (points, ordered.normals, ordered.rings, surface.mutual, ordered.largest_gap,
+                         pi, 8, sampleSpacings (points, neighbourhoods));
   if (!boundary.success) {
     result.message = boundary.message;
     return result;

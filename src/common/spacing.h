@@ -36,5 +36,29 @@ nearestSpacing (const Points3& points,
   return sum / static_cast<double> (nearest);
 }
 
+/** \brief The spacing of a sample's gaps around a point: nearestSpacing, except
+  * where the twelfth nearest in the row lies more than `cluster_ratio` times
+  * farther than that (the six nearest are the point's own small dense cluster, as
+  * at a mesh's vertices around long thin triangles): there the twelfth nearest's
+  * distance over `even_ratio`, that ratio on even samples. Rows of six or fewer
+  * give nearestSpacing. */
+inline double
+sampleSpacing (const Points3& points,
+               pcl::index_t v,
+               const pcl::index_t* begin,
+               const pcl::index_t* end,
+               std::vector<double>& distances)
+{
+  constexpr double cluster_ratio = 2.6; // even, noisy and lattice samples stay below 2.5
+  constexpr double even_ratio = 1.8;
+  const double nearest = nearestSpacing (points, v, begin, end, distances);
+  if (distances.size () <= 6)
+    return nearest;
+  const std::size_t twelfth = std::min<std::size_t> (12, distances.size ()) - 1;
+  std::nth_element (distances.begin () + 6, distances.begin () + twelfth, distances.end ());
+  const double far = distances[twelfth];
+  return far > cluster_ratio * nearest ? far / even_ratio : nearest;
+}
+
 } // namespace meshless
 } // namespace pcl

@@ -34,6 +34,10 @@ struct BoundaryLoops : StageStatus
   * \param[in] mutual the mutual ring graph
   * \param[in] largest_gap per point (OrderedNeighbourhoods::largest_gap)
   * \param[in] min_loop loops with fewer points are noise and dropped (default 8)
+  * \param[in] spacing per point, optional: an inner loop is kept as a hole only if
+  *            its points lie 1.5 loop edges (the median) from its centroid and, if
+  *            given, 1.5 of their median spacing; where a sample comes in small
+  *            dense clusters, a gap's loop edges understate it
   */
 BoundaryLoops
 findBoundaryLoops (const Points3& points,
@@ -42,16 +46,20 @@ findBoundaryLoops (const Points3& points,
                    const CsrGraph& mutual,
                    const std::vector<float>& largest_gap,
                    double min_gap = 3.14159265358979323846,
-                   std::size_t min_loop = 8);
+                   std::size_t min_loop = 8,
+                   const std::vector<double>& spacing = {});
 
 /** \brief An edge longer than this many times the spacing of its end points (a
-  * point's mean distance to its six nearest) spans a hole: a sample's own edges
-  * stay well below it (doc/benchmarks.md). */
+  * point's mean distance to its six nearest, or past its cluster where those are
+  * a small dense cluster's own) spans a hole: a sample's own edges stay well
+  * below it (doc/benchmarks.md). */
 constexpr double max_edge_over_spacing = 4.0;
 
 /** \brief Cut open the holes the boundary walk missed: removes the triangles with an
   * edge longer than `max_span` (positive) times the larger spacing of its end
-  * points (each point's mean distance to its six nearest in `neighbourhoods`;
+  * points (each point's mean distance to its six nearest in `neighbourhoods`,
+  * or, where the twelfth lies more than 2.6 times farther, as in a sample of small
+  * dense clusters, the twelfth's distance over 1.8, the ratio on even samples;
   * with fewer neighbours the spacing is smaller and more triangles look long).
   * Edge-connected regions of such triangles that reach the boundary stay. Run it
   * on a finished (edge-swapped) mesh: in the raw parameter-space triangulation,
