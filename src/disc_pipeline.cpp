@@ -121,10 +121,10 @@ wideEnoughForAHole (const Points3& points, const std::vector<pcl::index_t>& loop
     return false;
   if (spacing.size () != points.size ())
     return true;
-  std::vector<double> local (loop.size ());
+  std::vector<double> loop_spacings (loop.size ());
   for (std::size_t k = 0; k < loop.size (); ++k)
-    local[k] = spacing[loop[k]];
-  return nearest >= radius * median (local);
+    loop_spacings[k] = spacing[loop[k]];
+  return nearest >= radius * median (loop_spacings);
 }
 
 /** \brief sampleSpacing of every point over its row of `neighbourhoods`. */

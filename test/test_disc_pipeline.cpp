@@ -340,8 +340,7 @@ TEST (DiscPipeline, ClusteredOpenSamplesKeepTheirHoleCountOrAreRefused)
   // triangles): the six nearest are a cluster's own, and the gaps between
   // clusters measured against them looked like holes (cut open, or kept as
   // walked loops). Every member is one disc with exactly the surface's holes or
-  // refused with an empty mesh, never another hole count; most reconstruct
-  // (measured: 14 of 16).
+  // refused with an empty mesh, never another hole count; most reconstruct.
   std::size_t right = 0, members = 0;
   for (const auto shape : {SyntheticShape::Disc, SyntheticShape::HeightField})
     for (const std::size_t cluster : {6u, 8u})

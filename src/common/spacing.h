@@ -15,7 +15,8 @@ namespace meshless {
 /** \brief A point's spacing: its mean distance to its six nearest among the row
   * [begin, end) of a neighbourhood graph (all of them if fewer; 0 if none). Fewer
   * than six see noise pull pairs of points together.
-  * \param[out] distances scratch, left holding the row's distances in some order */
+  * \param[out] distances scratch, left holding the row's distances with the six
+  *             smallest (all if fewer) first, in some order (sampleSpacing needs it) */
 inline double
 nearestSpacing (const Points3& points,
                 pcl::index_t v,
@@ -40,8 +41,9 @@ nearestSpacing (const Points3& points,
   * where the twelfth nearest in the row lies more than `cluster_ratio` times
   * farther than that (the six nearest are the point's own small dense cluster, as
   * at a mesh's vertices around long thin triangles): there the twelfth nearest's
-  * distance over `even_ratio`, that ratio on even samples. Rows of six or fewer
-  * give nearestSpacing. */
+  * distance over that ratio on even samples. Rows of six or fewer
+  * give nearestSpacing; in rows of seven to eleven the farthest stands in for
+  * the twelfth (fewer neighbours than the default k). */
 inline double
 sampleSpacing (const Points3& points,
                pcl::index_t v,
@@ -49,15 +51,17 @@ sampleSpacing (const Points3& points,
                const pcl::index_t* end,
                std::vector<double>& distances)
 {
-  constexpr double cluster_ratio = 2.6; // even, noisy and lattice samples stay below 2.5
-  constexpr double even_ratio = 1.8;
+  // Between the ratio's largest on even, noisy and lattice samples and its usual
+  // value on clusters (doc/benchmarks.md).
+  constexpr double cluster_ratio = 2.6;
+  constexpr double twelfth_over_nearest_on_even_samples = 1.8;
   const double nearest = nearestSpacing (points, v, begin, end, distances);
   if (distances.size () <= 6)
     return nearest;
   const std::size_t twelfth = std::min<std::size_t> (12, distances.size ()) - 1;
   std::nth_element (distances.begin () + 6, distances.begin () + twelfth, distances.end ());
   const double far = distances[twelfth];
-  return far > cluster_ratio * nearest ? far / even_ratio : nearest;
+  return far > cluster_ratio * nearest ? far / twelfth_over_nearest_on_even_samples : nearest;
 }
 
 } // namespace meshless

@@ -34,10 +34,11 @@ struct BoundaryLoops : StageStatus
   * \param[in] mutual the mutual ring graph
   * \param[in] largest_gap per point (OrderedNeighbourhoods::largest_gap)
   * \param[in] min_loop loops with fewer points are noise and dropped (default 8)
-  * \param[in] spacing per point, optional: an inner loop is kept as a hole only if
-  *            its points lie 1.5 loop edges (the median) from its centroid and, if
-  *            given, 1.5 of their median spacing; where a sample comes in small
-  *            dense clusters, a gap's loop edges understate it
+  * \param[in] spacing optional, a distance per point (ignored unless there is one
+  *            per point), the typical gap of the sample around it: an inner loop
+  *            is a hole only if its points lie well away from its centroid in loop
+  *            edges and, if given, in their spacing too (where a sample comes in
+  *            small dense clusters, a gap's own loop edges understate it)
   */
 BoundaryLoops
 findBoundaryLoops (const Points3& points,
@@ -58,9 +59,9 @@ constexpr double max_edge_over_spacing = 4.0;
 /** \brief Cut open the holes the boundary walk missed: removes the triangles with an
   * edge longer than `max_span` (positive) times the larger spacing of its end
   * points (each point's mean distance to its six nearest in `neighbourhoods`,
-  * or, where the twelfth lies more than 2.6 times farther, as in a sample of small
-  * dense clusters, the twelfth's distance over 1.8, the ratio on even samples;
-  * with fewer neighbours the spacing is smaller and more triangles look long).
+  * or, where the twelfth lies much farther, as in a sample of small dense
+  * clusters, the twelfth's distance scaled to what it is on even samples; with
+  * fewer neighbours the spacing is smaller and more triangles look long).
   * Edge-connected regions of such triangles that reach the boundary stay. Run it
   * on a finished (edge-swapped) mesh: in the raw parameter-space triangulation,
   * long triangles near the outline are the map's, until the swaps shorten them.
