@@ -113,10 +113,6 @@ wideEnoughForAHole (const Points3& points, const std::vector<pcl::index_t>& loop
     nearest = std::min (nearest, (points[loop[k]] - centroid).norm ());
     edges[k] = (points[loop[(k + 1) % loop.size ()]] - points[loop[k]]).norm ();
   }
-  auto median = [] (std::vector<double>& values) {
-    std::nth_element (values.begin (), values.begin () + values.size () / 2, values.end ());
-    return values[values.size () / 2];
-  };
   if (nearest < radius * median (edges))
     return false;
   if (spacing.size () != points.size ())

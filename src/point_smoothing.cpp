@@ -27,20 +27,6 @@
 namespace pcl {
 namespace meshless {
 
-namespace {
-
-double
-median (std::vector<double> values)
-{
-  if (values.empty ())
-    return 0.0;
-  const auto middle = values.begin () + values.size () / 2;
-  std::nth_element (values.begin (), middle, values.end ());
-  return *middle;
-}
-
-} // namespace
-
 SmoothedPoints
 projectOntoFittedSurfaces (const Points3& points, const CsrGraph& neighbours, int num_threads)
 {

@@ -12,6 +12,17 @@
 namespace pcl {
 namespace meshless {
 
+/** \brief The upper median of `values` (0 if empty). */
+inline double
+median (std::vector<double> values)
+{
+  if (values.empty ())
+    return 0.0;
+  const auto middle = values.begin () + values.size () / 2;
+  std::nth_element (values.begin (), middle, values.end ());
+  return *middle;
+}
+
 /** \brief A point's spacing: its mean distance to its six nearest among the row
   * [begin, end) of a neighbourhood graph (all of them if fewer; 0 if none). Fewer
   * than six see noise pull pairs of points together.
