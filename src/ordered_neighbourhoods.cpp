@@ -12,6 +12,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <vector>
 
 namespace pcl {
 namespace meshless {
@@ -29,6 +30,29 @@ planeFrame (const Eigen::Vector3d& n, Eigen::Vector3d& e1, Eigen::Vector3d& e2)
   axis[smallest] = 1.0;
   e1 = axis.cross (n).normalized ();
   e2 = n.cross (e1);
+}
+
+/** The normal of the plane of least (weighted) squares from the points' moments
+  * about the centre: their weighted sum and sum of outer products, over the total
+  * weight. */
+Eigen::Vector3d
+normalOfMoments (const Eigen::Vector3d& sum, const Eigen::Matrix3d& outer, double total)
+{
+  const Eigen::Vector3d mean = sum / total;
+  const Eigen::Matrix3d covariance = outer / total - mean * mean.transpose ();
+  // Scale to unit trace: the eigenvector is unchanged and float stays accurate for
+  // clouds in any unit (1e-4 or 1e4).
+  const double trace = covariance.trace ();
+  if (!(trace > 0.0))
+    return Eigen::Vector3d::Zero ();
+  float nx, ny, nz, curvature;
+  pcl::solvePlaneParameters (Eigen::Matrix3f ((covariance / trace).cast<float> ()), nx, ny,
+                             nz, curvature);
+  Eigen::Vector3d normal (nx, ny, nz);
+  const double length = normal.norm ();
+  if (!(length > 0.0) || !std::isfinite (length))
+    return Eigen::Vector3d::Zero ();
+  return normal / length;
 }
 
 } // namespace
@@ -52,21 +76,46 @@ leastSquaresNormal (const Points3& points,
   }
   if (count < 3)
     return Eigen::Vector3d::Zero ();
-  const Eigen::Vector3d mean = sum / count;
-  const Eigen::Matrix3d covariance = outer / count - mean * mean.transpose ();
-  // Scale to unit trace: the eigenvector is unchanged and float stays accurate for
-  // clouds in any unit (1e-4 or 1e4).
-  const double trace = covariance.trace ();
-  if (!(trace > 0.0))
+  return normalOfMoments (sum, outer, count);
+}
+
+Eigen::Vector3d
+weightedLeastSquaresNormal (const Points3& points,
+                            pcl::index_t centre,
+                            const pcl::index_t* begin,
+                            const pcl::index_t* end,
+                            bool include_centre,
+                            double width)
+{
+  const std::ptrdiff_t count = end - begin;
+  if (count + (include_centre ? 1 : 0) < 3 || !(width > 0.0))
     return Eigen::Vector3d::Zero ();
-  float nx, ny, nz, curvature;
-  pcl::solvePlaneParameters (Eigen::Matrix3f ((covariance / trace).cast<float> ()), nx, ny,
-                             nz, curvature);
-  Eigen::Vector3d normal (nx, ny, nz);
-  const double length = normal.norm ();
-  if (!(length > 0.0) || !std::isfinite (length))
+  const Eigen::Vector3d& origin = points[centre];
+  std::vector<double> distances (static_cast<std::size_t> (count));
+  for (std::ptrdiff_t i = 0; i < count; ++i)
+    distances[i] = (points[begin[i]] - origin).norm ();
+  std::vector<double> nearest = distances;
+  const auto six = std::min<std::ptrdiff_t> (6, count);
+  std::partial_sort (nearest.begin (), nearest.begin () + six, nearest.end ());
+  const double spacing = std::accumulate (nearest.begin (), nearest.begin () + six, 0.0) /
+                         static_cast<double> (six);
+  const double sigma = width * spacing;
+  if (!(sigma > 0.0) || !std::isfinite (sigma))
     return Eigen::Vector3d::Zero ();
-  return normal / length;
+  Eigen::Vector3d sum = Eigen::Vector3d::Zero ();
+  Eigen::Matrix3d outer = Eigen::Matrix3d::Zero ();
+  double total = include_centre ? 1.0 : 0.0; // the centre contributes a zero vector
+  for (std::ptrdiff_t i = 0; i < count; ++i) {
+    const double ratio = distances[i] / sigma;
+    const double weight = std::exp (-ratio * ratio);
+    const Eigen::Vector3d d = points[begin[i]] - origin;
+    sum += weight * d;
+    outer += weight * d * d.transpose ();
+    total += weight;
+  }
+  if (!(total > 0.0))
+    return Eigen::Vector3d::Zero ();
+  return normalOfMoments (sum, outer, total);
 }
 
 void
@@ -199,6 +248,7 @@ orderNeighbourhoods (const Points3& points,
   const double max_sine = std::sin (std::clamp (options.max_neighbour_elevation_deg, 0.0, 90.0) *
                                     pi / 180.0);
   const bool drop_steep = options.max_neighbour_elevation_deg < 90.0;
+  const bool weighted = options.plane_weight_width > 0.0;
 
 #pragma omp parallel num_threads(threadCount (options.num_threads))
   {
@@ -211,7 +261,12 @@ orderNeighbourhoods (const Points3& points,
       const pcl::index_t* begin = candidates.begin (v);
       const pcl::index_t* end = candidates.end (v);
       const bool with_centre = options.plane == LocalPlane::ProjectOntoFit;
-      Eigen::Vector3d normal = leastSquaresNormal (points, v, begin, end, with_centre);
+      const auto planeNormal = [&] (const pcl::index_t* from, const pcl::index_t* to) {
+        return weighted ? weightedLeastSquaresNormal (points, v, from, to, with_centre,
+                                                      options.plane_weight_width)
+                        : leastSquaresNormal (points, v, from, to, with_centre);
+      };
+      Eigen::Vector3d normal = planeNormal (begin, end);
       if (normal.isZero ())
         continue;
       if (drop_steep) {
@@ -223,8 +278,7 @@ orderNeighbourhoods (const Points3& points,
         }
         const auto kept = static_cast<std::ptrdiff_t> (flat.size ());
         if (kept >= 4 && kept < end - begin) {
-          const Eigen::Vector3d refit =
-              leastSquaresNormal (points, v, flat.data (), flat.data () + kept, with_centre);
+          const Eigen::Vector3d refit = planeNormal (flat.data (), flat.data () + kept);
           if (!refit.isZero ()) {
             normal = refit;
             begin = flat.data ();

@@ -520,8 +520,7 @@ Conductor::ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTrian
       !options_.check_self_intersections)
     return;
   clock_.restart ();
-  SpherePipelineOptions near_side = options;
-  near_side.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
+  const SpherePipelineOptions near_side = nearSideOptions (options);
   SphereTriangulation again = triangulateSphere (points_, neighbourhoods_.neighbours, near_side);
   const bool presumed = genus_presumed_;
   polyhedraWhereNoGenus (near_side, again);
@@ -532,6 +531,7 @@ Conductor::ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTrian
   }
   first = std::move (again);
   first_options_.max_neighbour_elevation_deg = near_side.max_neighbour_elevation_deg;
+  first_options_.plane_weight_width = near_side.plane_weight_width;
   result_.report.near_side_rings = true;
   clock_.done ("near side", 0.35, "rings of the near side only: every base mesh failed on the rings as ordered");
 }

@@ -14,6 +14,14 @@
 namespace pcl {
 namespace meshless {
 
+SpherePipelineOptions
+nearSideOptions (SpherePipelineOptions options)
+{
+  options.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
+  options.plane_weight_width = plane_weight_width_on_retry;
+  return options;
+}
+
 void
 CurrentResult::adopt (FinishedMesh&& finished)
 {
@@ -365,10 +373,15 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
   }
   // Other base meshes cut the surface elsewhere, and a fold left by one layout may
   // not form in another. Not for a result that turns back (a handle or a
-  // boundary): another layout may hide the handle behind a membrane.
-  if (!options_.base_faces.empty () || report.mesh.self_intersecting_pairs == 0 ||
-      currentTurnsBack ())
+  // boundary): another layout may hide the handle behind a membrane. Rings that
+  // fold around a limb a few points across turn a genus-0 mesh back too; the
+  // near side's run is tried, kept only if it does not turn back before its repair.
+  if (!options_.base_faces.empty () || report.mesh.self_intersecting_pairs == 0)
     return;
+  if (currentTurnsBack ()) {
+    tryNearSide (options);
+    return;
+  }
   for (int retry = 0; retry < options_.base_retries && report.mesh.self_intersecting_pairs > 0;
        ++retry) {
     SpherePipelineOptions next = options;
@@ -381,17 +394,22 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
       break;
   }
   // Around a part only a few point spacings across, rings that reach its far side
-  // fold the patches: rings of the near side only (see OrderingOptions). Like the
-  // layouts, not for a result that turns back.
-  if (report.mesh.self_intersecting_pairs > 0 && options.max_neighbour_elevation_deg >= 90.0 &&
-      options_.base_retries > 0 && !near_side_tried_) {
-    near_side_tried_ = true; // once: not again on k + 2 neighbours
-    SpherePipelineOptions near_side = options;
-    near_side.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
-    near_side.first_attempt = 0;
-    bool kept = false;
-    tryAnother (near_side, kept, nullptr, RawCheck::MustNotTurnBack);
-  }
+  // fold the patches: rings of the near side only (see OrderingOptions).
+  if (report.mesh.self_intersecting_pairs > 0)
+    tryNearSide (options);
+}
+
+void
+RetryPolicy::tryNearSide (const SpherePipelineOptions& options)
+{
+  if (options.max_neighbour_elevation_deg < 90.0 || options_.base_retries == 0 ||
+      near_side_tried_)
+    return;
+  near_side_tried_ = true; // once: not again on k + 2 neighbours
+  SpherePipelineOptions near_side = nearSideOptions (options);
+  near_side.first_attempt = 0;
+  bool kept = false;
+  tryAnother (near_side, kept, nullptr, RawCheck::MustNotTurnBack);
 }
 
 bool

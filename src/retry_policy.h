@@ -21,6 +21,15 @@ using Normals = std::vector<Eigen::Vector3f>;
   * lie on its far side. */
 constexpr double max_neighbour_elevation_on_retry = 50.0;
 
+/** \brief The width of the Gaussian weights on those runs' plane fits
+  * (OrderingOptions::plane_weight_width): the steep neighbours are judged against a
+  * plane that the near side carries, not one that stands across the part. */
+constexpr double plane_weight_width_on_retry = 0.8;
+
+/** \brief `options` for a run on rings of the near side only. */
+SpherePipelineOptions
+nearSideOptions (SpherePipelineOptions options);
+
 /** \brief What finishing did to one triangulation; the report takes it over when
   * that triangulation becomes the result. */
 struct FinishedMesh
@@ -158,6 +167,10 @@ public:
     * report). */
   bool
   currentTurnsBack ();
+  /** \brief Once per call: a run on rings of the near side only (nearSideOptions),
+    * kept if it does not turn back before its repair and leaves fewer pairs. */
+  void
+  tryNearSide (const SpherePipelineOptions& options);
 
   /** \brief Whether tryAnother also asks the triangulation not to turn back before
     * its repair. */

@@ -198,7 +198,7 @@ TEST (ClosedTopology, ThinLimbsCloseAsGenusZero)
   // Limbs a few points around: the rings there are too noisy to grow D from at small
   // sizes, and the closed topology must still give genus 0 (through the polyhedra,
   // under the sphere topology's checks), not "the genus could not be found".
-  for (const std::size_t n : {3000u, 5000u})
+  for (const std::size_t n : {1600u, 3000u, 5000u})
     for (std::uint32_t seed = 1; seed <= 3; ++seed) {
       SCOPED_TRACE (std::to_string (n) + " points, seed " + std::to_string (seed));
       expectClosesWithGenus (

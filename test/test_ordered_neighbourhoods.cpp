@@ -282,3 +282,64 @@ TEST (OrderedNeighbourhoods, RingsOfAThinRodKeepToTheNearSideWhenSteepNeighbours
     EXPECT_LT (ordered.largest_gap[v], pi) << "point " << v;
   }
 }
+
+TEST (OrderedNeighbourhoods, WeightedNormalOfAPlaneIsItsNormal)
+{
+  Points3 points;
+  std::mt19937 random (2);
+  std::uniform_real_distribution<double> u (-1.0, 1.0);
+  const Eigen::Vector3d n = Eigen::Vector3d (-0.2, 0.7, 0.4).normalized ();
+  const Eigen::Vector3d a = n.unitOrthogonal (), b = n.cross (a);
+  for (int i = 0; i < 20; ++i)
+    points.push_back (u (random) * a + u (random) * b);
+  std::vector<pcl::index_t> others;
+  for (pcl::index_t i = 1; i < 20; ++i)
+    others.push_back (i);
+  const pcl::index_t* begin = others.data ();
+  const pcl::index_t* end = begin + others.size ();
+  EXPECT_NEAR (std::abs (weightedLeastSquaresNormal (points, 0, begin, end, true, 0.8).dot (n)),
+               1.0, 1e-6);
+  EXPECT_TRUE (weightedLeastSquaresNormal (points, 0, begin, begin + 1, true, 0.8).isZero ());
+  EXPECT_TRUE (weightedLeastSquaresNormal (points, 0, begin, end, true, 0.0).isZero ());
+}
+
+TEST (OrderedNeighbourhoods, RodsFivePointsAroundNeedAWeightedPlaneForTheirNearSide)
+{
+  // Generated limbs five to six points around: twelve neighbours span the rod, and
+  // their unweighted plane stands across it for a good share of its points; the
+  // steep neighbours dropped against that plane are then the near ones. Weights
+  // that fall off within a spacing fit the near side's plane, tangent to the rod.
+  for (const std::size_t n : {1500u, 1700u})
+    for (const std::uint32_t seed : {1u, 2u, 3u}) {
+      SCOPED_TRACE (std::to_string (n) + " points, seed " + std::to_string (seed));
+      const Points3 points = sampleShape (SyntheticShape::ThinLimbs, {n, seed, 0.0});
+      const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+      const auto offRadial = [&] (const OrderedNeighbourhoods& ordered, std::size_t& on_rods) {
+        std::size_t off = 0;
+        on_rods = 0;
+        for (std::size_t v = 0; v < points.size (); ++v) {
+          // The rods leave the ball of radius 0.5 along the axes and end at 1.5.
+          Eigen::Index axis;
+          const double along = points[v].cwiseAbs ().maxCoeff (&axis);
+          if (points[v].norm () < 0.75 || along > 1.45)
+            continue;
+          ++on_rods;
+          Eigen::Vector3d radial = points[v];
+          radial[axis] = 0.0;
+          off += std::abs (ordered.normals[v].cast<double> ().dot (radial.normalized ())) <
+                 std::cos (pi / 4.0);
+        }
+        return off;
+      };
+      OrderingOptions near_side;
+      near_side.max_neighbour_elevation_deg = 50.0;
+      std::size_t on_rods = 0;
+      const OrderedNeighbourhoods plain = orderNeighbourhoods (points, graph, near_side);
+      ASSERT_TRUE (plain.success);
+      EXPECT_GT (offRadial (plain, on_rods), on_rods / 8) << "the rods are meant to be that thin";
+      near_side.plane_weight_width = 0.8;
+      const OrderedNeighbourhoods weighted = orderNeighbourhoods (points, graph, near_side);
+      ASSERT_TRUE (weighted.success);
+      EXPECT_LT (offRadial (weighted, on_rods), on_rods / 40);
+    }
+}

@@ -571,8 +571,13 @@ TEST (Robustness, KLargerThanTheCloud)
   const Outcome octahedron = expectContract (six, 1000);
   EXPECT_TRUE (octahedron.success) << octahedron.message;
   EXPECT_EQ (octahedron.num_polygons, 8u);
-  // Too large for the hull: a reason naming the parameter.
-  expectFailure (expectContract (shape (SyntheticShape::Sphere, 500), std::numeric_limits<int>::max ()),
+  // Too large for the hull, every point a neighbour of every other: a sphere still
+  // closes on rings of the near side (their planes weighted to the nearest points);
+  // an elongated cloud gets a reason naming the parameter.
+  const Outcome whole = expectContract (shape (SyntheticShape::Sphere, 500), std::numeric_limits<int>::max ());
+  EXPECT_TRUE (whole.success) << whole.message;
+  EXPECT_EQ (whole.num_polygons, 996u);
+  expectFailure (expectContract (shape (SyntheticShape::Ellipsoid, 500), std::numeric_limits<int>::max ()),
                  "setNumberOfNeighbours");
 }
 
@@ -605,12 +610,13 @@ TEST (Robustness, ZeroOrNegativeParameters)
   }
   {
     // A radius that catches everything: every point a neighbour of every other.
+    // Neighbourhoods spanning an elongated cloud leave the paths no room: the
+    // parameter is named.
+    auto elongated = shape (SyntheticShape::Ellipsoid, 500);
     Reconstruction reconstruction;
-    reconstruction.setInputCloud (cloud);
+    reconstruction.setInputCloud (elongated);
     reconstruction.setSearchRadius (10.0);
-    // Neighbourhoods spanning the cloud leave the paths no room: the parameter is
-    // named.
-    expectFailure (expectContract (reconstruction, expectedVertices (*cloud)), "setSearchRadius");
+    expectFailure (expectContract (reconstruction, expectedVertices (*elongated)), "setSearchRadius");
   }
 }
 
@@ -788,13 +794,14 @@ TEST (Robustness, NoiseAtThePointSpacingClosesThroughFittedSurfaces)
 
 TEST (Robustness, LimbsAFewPointsAroundCloseOnRingsOfTheirNearSide)
 {
-  // Rods about six point spacings around: twelve neighbours reach their far side and
-  // fold the rings, and every base mesh fails on the rings as ordered. Most members
-  // close on rings of their near side, with every invariant (expectContract); the
-  // others fail for folds or paths.
+  // Rods five to six point spacings around: twelve neighbours reach their far side
+  // and fold the rings, and every base mesh fails on the rings as ordered, or the
+  // mesh turns back. Rings of the near side, on planes their near side carries,
+  // close most members with every invariant (expectContract); the others fail for
+  // folds or paths.
   int closed = 0, near_side = 0;
-  for (const std::size_t n : {1800u, 1900u})
-    for (const std::uint32_t seed : {1u, 2u, 3u, 4u, 5u}) {
+  for (const std::size_t n : {1400u, 1500u, 1600u, 1700u})
+    for (const std::uint32_t seed : {1u, 2u, 3u}) {
       SCOPED_TRACE (std::to_string (n) + " points, seed " + std::to_string (seed));
       Reconstruction reconstruction;
       const auto cloud = shape (SyntheticShape::ThinLimbs, n, seed);
@@ -809,8 +816,8 @@ TEST (Robustness, LimbsAFewPointsAroundCloseOnRingsOfTheirNearSide)
                      outcome.message.find ("no base mesh worked") != std::string::npos)
             << outcome.message;
     }
-  EXPECT_GE (closed, 7);
-  EXPECT_GE (near_side, 5) << "most through rings of the near side";
+  EXPECT_GE (closed, 10);
+  EXPECT_GE (near_side, 8) << "most through rings of the near side";
 }
 
 TEST (Robustness, CleanCloudsKeepTheirPoints)

@@ -78,6 +78,9 @@ struct SpherePipelineOptions
   /** \brief Rings without the neighbours seen more steeply than this from the
     * plane of a point's neighbourhood (OrderingOptions). Default 90: all kept. */
   double max_neighbour_elevation_deg = 90.0;
+  /** \brief Gaussian weights on the rings' plane fits (OrderingOptions). Default 0:
+    * unweighted. */
+  double plane_weight_width = 0.0;
   SolveOptions solve;
   /** \brief The edge swaps' angle pass inside each patch, in parallel with the
     * other patches' solves (flipFlatEdgesInPatch). Default: off; the class turns it

@@ -47,6 +47,9 @@ struct SurfaceGraphOptions
   /** \brief OrderingOptions::max_neighbour_elevation_deg of the rings. Default 90:
     * every neighbour kept. */
   double max_neighbour_elevation_deg = 90.0;
+  /** \brief OrderingOptions::plane_weight_width of the rings. Default 0: the
+    * unweighted plane. */
+  double plane_weight_width = 0.0;
   /** \brief Threads for the graph, the rings and the weights (0 = all cores). The
     * result does not depend on it. Default 0. */
   int num_threads = 0;
