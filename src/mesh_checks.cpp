@@ -706,6 +706,40 @@ counted (std::size_t n, const char* singular, const char* plural)
   return std::to_string (n) + " " + (n == 1 ? singular : plural);
 }
 
+/** Whether every corner of t indexes one of num_vertices vertices. */
+bool
+validTriangle (const Triangle& t, std::size_t num_vertices)
+{
+  for (const pcl::index_t v : t)
+    if (v < 0 || static_cast<std::size_t> (v) >= num_vertices)
+      return false;
+  return true;
+}
+
+/** Vertex adjacency of the valid triangles as compressed rows; an edge shared by
+  * two triangles is listed twice, which a search does not mind. */
+void
+vertexAdjacency (std::size_t num_vertices,
+                 const Triangles& triangles,
+                 std::vector<std::size_t>& offsets,
+                 std::vector<pcl::index_t>& adjacent)
+{
+  offsets.assign (num_vertices + 1, 0);
+  for (const Triangle& t : triangles)
+    if (validTriangle (t, num_vertices))
+      for (const pcl::index_t v : t)
+        offsets[v + 1] += 2;
+  std::partial_sum (offsets.begin (), offsets.end (), offsets.begin ());
+  adjacent.resize (offsets.back ());
+  std::vector<std::size_t> fill (offsets.begin (), offsets.end () - 1);
+  for (const Triangle& t : triangles)
+    if (validTriangle (t, num_vertices))
+      for (int k = 0; k < 3; ++k) {
+        adjacent[fill[t[k]]++] = t[(k + 1) % 3];
+        adjacent[fill[t[k]]++] = t[(k + 2) % 3];
+      }
+}
+
 } // namespace
 
 bool
@@ -919,28 +953,10 @@ distantIntersectingPairs (std::size_t num_vertices,
                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
                           std::size_t max_hops)
 {
-  const auto valid = [&] (const Triangle& t) {
-    for (const pcl::index_t v : t)
-      if (v < 0 || static_cast<std::size_t> (v) >= num_vertices)
-        return false;
-    return true;
-  };
-  // Vertex adjacency as compressed rows; an edge shared by two triangles is listed
-  // twice, which a search does not mind.
-  std::vector<std::size_t> offsets (num_vertices + 1, 0);
-  for (const Triangle& t : triangles)
-    if (valid (t))
-      for (const pcl::index_t v : t)
-        offsets[v + 1] += 2;
-  std::partial_sum (offsets.begin (), offsets.end (), offsets.begin ());
-  std::vector<pcl::index_t> adjacent (offsets.back ());
-  std::vector<std::size_t> fill (offsets.begin (), offsets.end () - 1);
-  for (const Triangle& t : triangles)
-    if (valid (t))
-      for (int k = 0; k < 3; ++k) {
-        adjacent[fill[t[k]]++] = t[(k + 1) % 3];
-        adjacent[fill[t[k]]++] = t[(k + 2) % 3];
-      }
+  const auto valid = [&] (const Triangle& t) { return validTriangle (t, num_vertices); };
+  std::vector<std::size_t> offsets;
+  std::vector<pcl::index_t> adjacent;
+  vertexAdjacency (num_vertices, triangles, offsets, adjacent);
 
   // Breadth-first search from the first triangle, ring by ring, until a vertex of
   // the second shows up; `seen` holds the number of the search that saw a vertex,
@@ -980,6 +996,68 @@ distantIntersectingPairs (std::size_t num_vertices,
     distant += found ? 0 : 1;
   }
   return distant;
+}
+
+std::size_t
+neighboursSeparatedByTheMesh (const Points3& points,
+                              const Triangles& triangles,
+                              const CsrGraph& neighbours,
+                              const std::vector<Eigen::Vector3f>& normals,
+                              std::size_t max_hops,
+                              int num_threads)
+{
+  const std::size_t n = points.size ();
+  if (neighbours.offsets.size () != n + 1 || normals.size () != n)
+    return 0;
+  std::vector<std::size_t> offsets;
+  std::vector<pcl::index_t> adjacent;
+  vertexAdjacency (n, triangles, offsets, adjacent);
+  // Neighbours whose normals differ by more than this lie across a thin part or
+  // a crease, where the mesh rightly keeps them apart.
+  const float min_cosine = 0.5f;
+  std::size_t separated = 0;
+#pragma omp parallel num_threads(threadCount (num_threads)) reduction(+ : separated)
+  {
+    // Per thread: the number of the search that saw a vertex, never cleared.
+    std::vector<std::size_t> seen (n, 0);
+    std::vector<pcl::index_t> ring, next_ring, wanted;
+    std::size_t search = 0;
+#pragma omp for schedule(dynamic, 1024)
+    for (std::ptrdiff_t su = 0; su < static_cast<std::ptrdiff_t> (n); ++su) {
+      const auto u = static_cast<pcl::index_t> (su);
+      wanted.clear ();
+      for (const pcl::index_t* w = neighbours.begin (u); w != neighbours.end (u); ++w)
+        if (*w >= 0 && static_cast<std::size_t> (*w) < n && *w != u &&
+            normals[u].dot (normals[*w]) >= min_cosine * normals[u].norm () * normals[*w].norm () &&
+            normals[u].squaredNorm () > 0.0f)
+          wanted.push_back (*w);
+      if (wanted.empty ())
+        continue;
+      // Rings of the mesh around u, one hop at a time, until every wanted
+      // neighbour has been seen or max_hops is reached.
+      ++search;
+      seen[u] = search;
+      ring.assign (1, u);
+      std::size_t found = 0;
+      for (std::size_t hop = 0; hop < max_hops && found < wanted.size () && !ring.empty ();
+           ++hop) {
+        next_ring.clear ();
+        for (const pcl::index_t v : ring)
+          for (std::size_t a = offsets[v]; a < offsets[v + 1]; ++a) {
+            const pcl::index_t w = adjacent[a];
+            if (seen[w] == search)
+              continue;
+            seen[w] = search;
+            next_ring.push_back (w);
+            found += std::count (wanted.begin (), wanted.end (), w);
+          }
+        ring.swap (next_ring);
+      }
+      for (const pcl::index_t w : wanted)
+        separated += seen[w] == search ? 0 : 1;
+    }
+  }
+  return separated;
 }
 
 } // namespace meshless

@@ -201,6 +201,10 @@ private:
   surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const;
   std::string
   turnsBackMessage () const;
+  bool
+  cutThroughAHandle ();
+  std::string
+  cutMessage () const;
   void
   growWithDenserNeighbourhoods (const SpherePipelineOptions& options, SphereTriangulation& first);
   bool
@@ -590,6 +594,40 @@ Conductor::turnsBackMessage () const
          "spacing: sample them more densely; or far outliers: remove them)";
 }
 
+/** \brief Whether the closed mesh puts neighbours on one side of the surface far
+  * apart: a handle whose tube it cut and capped, which neither a fold nor the area
+  * facing against the normals shows. */
+bool
+Conductor::cutThroughAHandle ()
+{
+  ReconstructionReport& report = result_.report;
+  clock_.restart ();
+  report.separated_neighbours = neighboursSeparatedByTheMesh (
+      points_, result_.triangles, neighbourhoods_.neighbours, result_.normals,
+      max_local_fold_hops, static_cast<int> (options_.num_threads));
+  clock_.done ("cuts", 1.0,
+               std::to_string (report.separated_neighbours) +
+                   " neighbour pairs far apart on the mesh");
+  return report.separated_neighbours > max_separated_neighbours;
+}
+
+/** \brief Why a closed mesh that cut through a handle is refused. */
+std::string
+Conductor::cutMessage () const
+{
+  const ReconstructionReport& report = result_.report;
+  const bool sphere = options_.topology == Topology::Sphere;
+  return std::string (sphere ? "the cloud does not look like the surface of one sphere-like "
+                               "object"
+                             : "the genus could not be found") +
+         ": a closed mesh through it puts " + std::to_string (report.separated_neighbours) +
+         " pairs of neighbouring points with agreeing normals more than " +
+         std::to_string (max_local_fold_hops) +
+         " edges apart, as a mesh that cut through a handle does (" +
+         (sphere ? "use setTopology (Topology::Closed); " : "sample the handles more densely; ") +
+         "a part thinner than the point spacing may also: sample it more densely)";
+}
+
 bool
 Conductor::finalVerdict ()
 {
@@ -605,6 +643,11 @@ Conductor::finalVerdict ()
   }
   if (turns_back)
     return fail (turnsBackMessage ());
+  if (closed_ && cutThroughAHandle ()) {
+    if (options_.topology == Topology::Closed)
+      report.stats.genus = -1; // not the genus 0 of the polyhedra it came from
+    return fail (cutMessage ());
+  }
   // Runs of swaps too costly for every attempt's repair, on the result kept.
   if (report.mesh.self_intersecting_pairs > 0 &&
       !finisher_.repairWithLongerRuns (result_.triangles, result_.normals, report))

@@ -193,6 +193,47 @@ TEST (ClosedTopology, NoTriangleLiesFarFromAGeneratedSurface)
     }
 }
 
+TEST (ClosedTopology, HandlesAMeshCutThroughAreRefusedInBothTopologies)
+{
+  // Double tori of 1,000 points: the regions grow no D, and the polyhedra may give
+  // a closed genus-0 mesh without a single intersection, its tubes cut and capped.
+  // No member may come out with another genus than 2: closed with it, or refused
+  // (the closed topology then claims no genus, the sphere topology names the cloud
+  // not sphere-like). Some are refused only because neighbours across the cut lie
+  // far apart on the mesh.
+  int cut = 0;
+  for (const double noise : {0.0, 0.002})
+    for (std::uint32_t seed = 1; seed <= 3; ++seed) {
+      SCOPED_TRACE ("noise " + std::to_string (noise) + ", seed " + std::to_string (seed));
+      const auto cloud = toCloud (
+          pcl::meshless::sampleShape (SyntheticShape::DoubleTorus, {1000, seed, noise, 0.0}));
+      for (const auto topology : {Reconstruction::Topology::Closed, Reconstruction::Topology::Sphere}) {
+        Reconstruction reconstruction;
+        reconstruction.setTopology (topology);
+        reconstruction.setInputCloud (cloud);
+        std::vector<pcl::Vertices> polygons;
+        reconstruction.reconstruct (polygons);
+        const auto& report = reconstruction.getReport ();
+        if (report.success) {
+          ASSERT_EQ (topology, Reconstruction::Topology::Closed) << "a sphere-like mesh";
+          EXPECT_EQ (report.stats.genus, 2);
+          expectClosedOfGenus (*reconstruction.getVertexCloud (), polygons, 2);
+          continue;
+        }
+        EXPECT_TRUE (polygons.empty ());
+        if (topology == Reconstruction::Topology::Closed)
+          EXPECT_NE (report.stats.genus, 0) << report.message;
+        else
+          EXPECT_NE (report.message.find ("sphere-like"), std::string::npos) << report.message;
+        if (report.separated_neighbours > pcl::meshless::max_separated_neighbours) {
+          ++cut;
+          EXPECT_NE (report.message.find ("edges apart"), std::string::npos) << report.message;
+        }
+      }
+    }
+  EXPECT_GE (cut, 6) << "members refused for the cut alone, in either topology";
+}
+
 TEST (ClosedTopology, ThinLimbsCloseAsGenusZero)
 {
   // Limbs a few points around: the rings there are too noisy to grow D from at small

@@ -787,3 +787,56 @@ TEST (MeshChecks, DistantIntersectingPairsTellFoldsFromCrossings)
   EXPECT_EQ (distantIntersectingPairs (n, broken, bad, 0), 0u);
   EXPECT_EQ (distantIntersectingPairs (0, {}, {}, 3), 0u);
 }
+
+TEST (MeshChecks, NeighboursSeparatedByTheMeshShowAHandleCutThrough)
+{
+  // A torus meshed faithfully keeps every point's nearest neighbours within a few
+  // edges. Cut through its tube and capped at both ends, it is a closed genus-0
+  // mesh through the same points without any intersection, and the neighbours
+  // across the cut lie a whole loop apart.
+  const int nu = 48, nv = 12;
+  const Mesh torus = gridTorus (nu, nv);
+  std::vector<Eigen::Vector3f> normals;
+  for (int i = 0; i < nu; ++i)
+    for (int j = 0; j < nv; ++j) {
+      const double theta = 2 * pi * i / nu, phi = 2 * pi * j / nv;
+      normals.emplace_back (static_cast<float> (std::cos (theta) * std::cos (phi)),
+                            static_cast<float> (std::sin (theta) * std::cos (phi)),
+                            static_cast<float> (std::sin (phi)));
+    }
+  const CsrGraph neighbours = meshless_test::bruteForceKnn (torus.vertices, 8);
+  EXPECT_EQ (neighboursSeparatedByTheMesh (torus.vertices, torus.triangles, neighbours, normals, 16),
+             0u);
+
+  Mesh capped = torus;
+  capped.triangles.clear ();
+  const auto id = [] (int i, int j) { return static_cast<pcl::index_t> (i * nv + j); };
+  for (int i = 0; i + 1 < nu; ++i) // every quad but those from the last ring to the first
+    for (int j = 0; j < nv; ++j) {
+      capped.triangles.push_back ({id (i, j), id (i + 1, j), id (i + 1, (j + 1) % nv)});
+      capped.triangles.push_back ({id (i, j), id (i + 1, (j + 1) % nv), id (i, (j + 1) % nv)});
+    }
+  for (int j = 1; j + 1 < nv; ++j) { // a fan over each end, turned outwards
+    capped.triangles.push_back ({id (0, 0), id (0, j), id (0, j + 1)});
+    capped.triangles.push_back ({id (nu - 1, 0), id (nu - 1, j + 1), id (nu - 1, j)});
+  }
+  const MeshReport report = checkMesh (capped.vertices, capped.triangles);
+  ASSERT_TRUE (report.isSphereLike ()) << describe (report);
+  const std::size_t cut =
+      neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, normals, 16);
+  EXPECT_GE (cut, static_cast<std::size_t> (2 * nv)) << "both ends' points see the other end";
+  // A loop of 48 edges is within reach of 47 hops round the other way.
+  EXPECT_EQ (neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, normals, 48),
+             0u);
+  // Where the normals point apart (the two sides of a thin part), nothing counts:
+  // the last rings turned, as far as the first ring's neighbours reach.
+  std::vector<Eigen::Vector3f> apart = normals;
+  for (int i = nu - 4; i < nu; ++i)
+    for (int j = 0; j < nv; ++j)
+      apart[id (i, j)] = -apart[id (i, j)];
+  EXPECT_EQ (neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, apart, 16),
+             0u);
+  // Sizes that do not match the points give 0.
+  EXPECT_EQ (neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, {}, 16),
+             0u);
+}

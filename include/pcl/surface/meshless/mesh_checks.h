@@ -214,6 +214,28 @@ distantIntersectingPairs (std::size_t num_vertices,
                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
                           std::size_t max_hops);
 
+/** \brief How many of the given neighbour pairs (u, w) whose normals agree
+  * (within 60 degrees) lie more than `max_hops` edges apart on the mesh; each
+  * directed entry counts once.
+  *
+  * Telling a handle the mesh cut through. A closed genus-0 mesh through a cloud
+  * with a handle that does not intersect itself has cut the handle's tube and
+  * capped both ends: points next to each other on one side of the surface, which
+  * any faithful mesh joins within a few edges, then lie a whole loop apart.
+  * Across a thin part or a sharp crease the normals differ and the pair is not
+  * counted.
+  * \param[in] neighbours the points' neighbourhoods (e.g. their k nearest)
+  * \param[in] normals one per point, oriented (need not be unit length; zero:
+  *   the point is skipped)
+  * \return 0 if the sizes do not match the points */
+std::size_t
+neighboursSeparatedByTheMesh (const Points3& points,
+                              const Triangles& triangles,
+                              const CsrGraph& neighbours,
+                              const std::vector<Eigen::Vector3f>& normals,
+                              std::size_t max_hops,
+                              int num_threads = 0);
+
 /** \brief A compact one-paragraph human summary of a report: the kind of surface,
   * the sizes, every defect found, and the quality figures. */
 std::string

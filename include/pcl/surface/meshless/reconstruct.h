@@ -143,6 +143,11 @@ struct ReconstructionReport
     * max_local_fold_hops edges apart (distantIntersectingPairs); any such pair
     * rejects the cloud as not sphere-like. */
   std::size_t distant_intersecting_pairs = 0;
+  /** \brief Closed topologies: nearest-neighbour pairs with agreeing normals that
+    * the mesh puts more than max_local_fold_hops edges apart
+    * (neighboursSeparatedByTheMesh); above max_separated_neighbours, the mesh has
+    * cut through a handle and the cloud is rejected. */
+  std::size_t separated_neighbours = 0;
   /** \brief The check of the output mesh (valid when the pipeline produced one). */
   MeshReport mesh;
   /** \brief How far the points lie off the surfaces fitted to them: the fit the mesh
@@ -161,6 +166,10 @@ constexpr double max_area_against_normals = 0.08;
 /** \brief Edge distance up to which two intersecting triangles count as a local fold
   * rather than the surface passing through itself. */
 constexpr std::size_t max_local_fold_hops = 16;
+/** \brief Neighbour pairs a closed mesh may put far apart (separated_neighbours)
+  * and still count as faithful: genus-0 results measured leave none, a handle cut
+  * and capped leaves a loop of them around its tube. */
+constexpr std::size_t max_separated_neighbours = 8;
 /** \brief Clouds up to this size whose pipeline fails or leaves intersecting pairs
   * get their convex hull if every point lies on it. */
 constexpr std::size_t max_hull_points = 100;
