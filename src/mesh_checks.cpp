@@ -1007,7 +1007,8 @@ neighboursSeparatedByTheMesh (const Points3& points,
                               int num_threads)
 {
   const std::size_t n = points.size ();
-  if (neighbours.offsets.size () != n + 1 || normals.size () != n)
+  if (neighbours.offsets.size () != n + 1 || normals.size () != n ||
+      neighbours.adjacency.size () != static_cast<std::size_t> (neighbours.offsets[n]))
     return 0;
   std::vector<std::size_t> offsets;
   std::vector<pcl::index_t> adjacent;
@@ -1015,48 +1016,72 @@ neighboursSeparatedByTheMesh (const Points3& points,
   // Neighbours whose normals differ by more than this lie across a thin part or
   // a crease, where the mesh rightly keeps them apart.
   const float min_cosine = 0.5f;
-  std::size_t separated = 0;
-#pragma omp parallel num_threads(threadCount (num_threads)) reduction(+ : separated)
+  // Wider neighbourhoods reach points a faithful mesh puts farther apart.
+  const std::size_t nearest = 12;
+  const auto agree = [&] (pcl::index_t u, pcl::index_t w) {
+    const float lengths = normals[u].norm () * normals[w].norm ();
+    return lengths > 0.0f && normals[u].dot (normals[w]) >= min_cosine * lengths;
+  };
+  const int threads = threadCount (num_threads);
+  // Per thread: the number of the search that saw a vertex, never cleared.
+  struct Search
   {
-    // Per thread: the number of the search that saw a vertex, never cleared.
-    std::vector<std::size_t> seen (n, 0);
+    std::vector<std::uint32_t> seen;
+    std::uint32_t count = 0;
     std::vector<pcl::index_t> ring, next_ring, wanted;
-    std::size_t search = 0;
-#pragma omp for schedule(dynamic, 1024)
-    for (std::ptrdiff_t su = 0; su < static_cast<std::ptrdiff_t> (n); ++su) {
+    std::size_t separated = 0;
+  };
+  std::vector<Search> searches (static_cast<std::size_t> (threads));
+  for (Search& search : searches)
+    search.seen.assign (n, 0);
+  parallelRanges (n, 1024, threads, [&] (std::size_t begin, std::size_t end, int thread) {
+    Search& s = searches[static_cast<std::size_t> (thread)];
+    for (std::size_t su = begin; su < end; ++su) {
       const auto u = static_cast<pcl::index_t> (su);
-      wanted.clear ();
+      s.wanted.clear ();
       for (const pcl::index_t* w = neighbours.begin (u); w != neighbours.end (u); ++w)
-        if (*w >= 0 && static_cast<std::size_t> (*w) < n && *w != u &&
-            normals[u].dot (normals[*w]) >= min_cosine * normals[u].norm () * normals[*w].norm () &&
-            normals[u].squaredNorm () > 0.0f)
-          wanted.push_back (*w);
-      if (wanted.empty ())
+        if (*w >= 0 && static_cast<std::size_t> (*w) < n && *w != u && agree (u, *w))
+          s.wanted.push_back (*w);
+      if (s.wanted.size () > nearest) {
+        const auto closer = [&] (pcl::index_t a, pcl::index_t b) {
+          return (points[a] - points[u]).squaredNorm () < (points[b] - points[u]).squaredNorm ();
+        };
+        std::nth_element (s.wanted.begin (), s.wanted.begin () + (nearest - 1), s.wanted.end (),
+                          closer);
+        s.wanted.resize (nearest);
+      }
+      if (s.wanted.empty ())
         continue;
       // Rings of the mesh around u, one hop at a time, until every wanted
       // neighbour has been seen or max_hops is reached.
-      ++search;
-      seen[u] = search;
-      ring.assign (1, u);
+      if (++s.count == 0) { // wrapped: start the stamps afresh
+        std::fill (s.seen.begin (), s.seen.end (), 0);
+        s.count = 1;
+      }
+      s.seen[u] = s.count;
+      s.ring.assign (1, u);
       std::size_t found = 0;
-      for (std::size_t hop = 0; hop < max_hops && found < wanted.size () && !ring.empty ();
+      for (std::size_t hop = 0; hop < max_hops && found < s.wanted.size () && !s.ring.empty ();
            ++hop) {
-        next_ring.clear ();
-        for (const pcl::index_t v : ring)
+        s.next_ring.clear ();
+        for (const pcl::index_t v : s.ring)
           for (std::size_t a = offsets[v]; a < offsets[v + 1]; ++a) {
             const pcl::index_t w = adjacent[a];
-            if (seen[w] == search)
+            if (s.seen[w] == s.count)
               continue;
-            seen[w] = search;
-            next_ring.push_back (w);
-            found += std::count (wanted.begin (), wanted.end (), w);
+            s.seen[w] = s.count;
+            s.next_ring.push_back (w);
+            found += std::count (s.wanted.begin (), s.wanted.end (), w);
           }
-        ring.swap (next_ring);
+        s.ring.swap (s.next_ring);
       }
-      for (const pcl::index_t w : wanted)
-        separated += seen[w] == search ? 0 : 1;
+      for (const pcl::index_t w : s.wanted)
+        s.separated += s.seen[w] == s.count ? 0 : 1;
     }
-  }
+  });
+  std::size_t separated = 0;
+  for (const Search& search : searches)
+    separated += search.separated;
   return separated;
 }
 

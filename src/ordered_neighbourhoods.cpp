@@ -6,6 +6,7 @@
 #include <pcl/surface/meshless/ordered_neighbourhoods.h>
 
 #include "common/constants.h"
+#include "common/spacing.h"
 #include "common/threads.h"
 
 #include <algorithm>
@@ -91,24 +92,17 @@ weightedLeastSquaresNormal (const Points3& points,
   if (count + (include_centre ? 1 : 0) < 3 || !(width > 0.0))
     return Eigen::Vector3d::Zero ();
   const Eigen::Vector3d& origin = points[centre];
-  std::vector<double> distances (static_cast<std::size_t> (count));
-  for (std::ptrdiff_t i = 0; i < count; ++i)
-    distances[i] = (points[begin[i]] - origin).norm ();
-  std::vector<double> nearest = distances;
-  const auto six = std::min<std::ptrdiff_t> (6, count);
-  std::partial_sort (nearest.begin (), nearest.begin () + six, nearest.end ());
-  const double spacing = std::accumulate (nearest.begin (), nearest.begin () + six, 0.0) /
-                         static_cast<double> (six);
-  const double sigma = width * spacing;
+  std::vector<double> scratch;
+  const double sigma = width * nearestSpacing (points, centre, begin, end, scratch);
   if (!(sigma > 0.0) || !std::isfinite (sigma))
     return Eigen::Vector3d::Zero ();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero ();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero ();
   double total = include_centre ? 1.0 : 0.0; // the centre contributes a zero vector
   for (std::ptrdiff_t i = 0; i < count; ++i) {
-    const double ratio = distances[i] / sigma;
-    const double weight = std::exp (-ratio * ratio);
     const Eigen::Vector3d d = points[begin[i]] - origin;
+    const double ratio = d.norm () / sigma;
+    const double weight = std::exp (-ratio * ratio);
     sum += weight * d;
     outer += weight * d * d.transpose ();
     total += weight;

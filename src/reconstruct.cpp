@@ -202,7 +202,7 @@ private:
   std::string
   turnsBackMessage () const;
   bool
-  cutThroughAHandle ();
+  countSeparatedNeighbours ();
   std::string
   cutMessage () const;
   void
@@ -594,21 +594,21 @@ Conductor::turnsBackMessage () const
          "spacing: sample them more densely; or far outliers: remove them)";
 }
 
-/** \brief Whether the closed mesh puts neighbours on one side of the surface far
-  * apart: a handle whose tube it cut and capped, which neither a fold nor the area
-  * facing against the normals shows. */
+/** \brief Counts the neighbours on one side of the surface that the closed mesh
+  * puts far apart (report.separated_neighbours): a handle whose tube it cut and
+  * capped, which neither a fold nor the area facing against the normals shows.
+  * \return false if the progress callback cancelled */
 bool
-Conductor::cutThroughAHandle ()
+Conductor::countSeparatedNeighbours ()
 {
   ReconstructionReport& report = result_.report;
   clock_.restart ();
   report.separated_neighbours = neighboursSeparatedByTheMesh (
       points_, result_.triangles, neighbourhoods_.neighbours, result_.normals,
-      max_local_fold_hops, static_cast<int> (options_.num_threads));
-  clock_.done ("cuts", 1.0,
-               std::to_string (report.separated_neighbours) +
-                   " neighbour pairs far apart on the mesh");
-  return report.separated_neighbours > max_separated_neighbours;
+      max_neighbour_hops, static_cast<int> (options_.num_threads));
+  return clock_.done ("handle check", 1.0,
+                      std::to_string (report.separated_neighbours) +
+                          " neighbour pairs far apart on the mesh");
 }
 
 /** \brief Why a closed mesh that cut through a handle is refused. */
@@ -622,7 +622,7 @@ Conductor::cutMessage () const
                              : "the genus could not be found") +
          ": a closed mesh through it puts " + std::to_string (report.separated_neighbours) +
          " pairs of neighbouring points with agreeing normals more than " +
-         std::to_string (max_local_fold_hops) +
+         std::to_string (max_neighbour_hops) +
          " edges apart, as a mesh that cut through a handle does (" +
          (sphere ? "use setTopology (Topology::Closed); " : "sample the handles more densely; ") +
          "a part thinner than the point spacing may also: sample it more densely)";
@@ -636,14 +636,19 @@ Conductor::finalVerdict ()
       closed_ && finisher_.turnsBack (result_.triangles, result_.normals, report.mesh,
                                       report.area_against_normals,
                                       report.distant_intersecting_pairs);
-  const int genus = turns_back ? handlesWithDenserNeighbourhoods () : 0;
+  // A result of the near side's rings may stand in for one that turned back: the
+  // handles are looked for as if it had.
+  const int genus =
+      turns_back || report.near_side_rings ? handlesWithDenserNeighbourhoods () : 0;
   if (genus > 0) {
     report.stats.genus = genus;
     return fail (handlesRefusal (genus));
   }
   if (turns_back)
     return fail (turnsBackMessage ());
-  if (closed_ && cutThroughAHandle ()) {
+  if (closed_ && !countSeparatedNeighbours ())
+    return fail ("cancelled by the progress callback");
+  if (report.separated_neighbours > max_separated_neighbours) {
     if (options_.topology == Topology::Closed)
       report.stats.genus = -1; // not the genus 0 of the polyhedra it came from
     return fail (cutMessage ());

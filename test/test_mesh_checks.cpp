@@ -825,7 +825,7 @@ TEST (MeshChecks, NeighboursSeparatedByTheMeshShowAHandleCutThrough)
   const std::size_t cut =
       neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, normals, 16);
   EXPECT_GE (cut, static_cast<std::size_t> (2 * nv)) << "both ends' points see the other end";
-  // A loop of 48 edges is within reach of 47 hops round the other way.
+  // Within 48 hops the way round the other side is found.
   EXPECT_EQ (neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, normals, 48),
              0u);
   // Where the normals point apart (the two sides of a thin part), nothing counts:
@@ -835,6 +835,13 @@ TEST (MeshChecks, NeighboursSeparatedByTheMeshShowAHandleCutThrough)
     for (int j = 0; j < nv; ++j)
       apart[id (i, j)] = -apart[id (i, j)];
   EXPECT_EQ (neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, apart, 16),
+             0u);
+  // Points without a normal are skipped.
+  std::vector<Eigen::Vector3f> unknown = normals;
+  for (int i = nu - 4; i < nu; ++i)
+    for (int j = 0; j < nv; ++j)
+      unknown[id (i, j)] = Eigen::Vector3f::Zero ();
+  EXPECT_EQ (neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, unknown, 16),
              0u);
   // Sizes that do not match the points give 0.
   EXPECT_EQ (neighboursSeparatedByTheMesh (capped.vertices, capped.triangles, neighbours, {}, 16),

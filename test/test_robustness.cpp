@@ -609,7 +609,15 @@ TEST (Robustness, ZeroOrNegativeParameters)
                    "setNumberOfNeighbours");
   }
   {
-    // A radius that catches everything: every point a neighbour of every other.
+    // A radius that catches everything: every point a neighbour of every other. The
+    // sphere closes on rings of the near side (planes weighted to the nearest).
+    Reconstruction reconstruction;
+    reconstruction.setInputCloud (cloud);
+    reconstruction.setSearchRadius (10.0);
+    expectMesh (expectContract (reconstruction, expectedVertices (*cloud)));
+    EXPECT_TRUE (reconstruction.getReport ().near_side_rings);
+  }
+  {
     // Neighbourhoods spanning an elongated cloud leave the paths no room: the
     // parameter is named.
     auto elongated = shape (SyntheticShape::Ellipsoid, 500);

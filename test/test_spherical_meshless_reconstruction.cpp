@@ -127,7 +127,7 @@ TEST (SphericalMeshlessReconstruction, PolygonMeshOfAGeneratedCloud)
   EXPECT_TRUE (report.mesh.isSphereLike ());
   EXPECT_GT (report.mesh.signed_volume, 0.0);
   EXPECT_EQ (stages.front (), "neighbourhoods");
-  EXPECT_EQ (stages.back (), "cuts"); // the closed mesh looked at for a handle cut through
+  EXPECT_EQ (stages.back (), "handle check"); // the closed mesh looked at for a cut handle
   EXPECT_EQ (report.stage_seconds.size (), stages.size ());
 }
 

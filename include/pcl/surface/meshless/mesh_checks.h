@@ -216,7 +216,9 @@ distantIntersectingPairs (std::size_t num_vertices,
 
 /** \brief How many of the given neighbour pairs (u, w) whose normals agree
   * (within 60 degrees) lie more than `max_hops` edges apart on the mesh; each
-  * directed entry counts once.
+  * directed entry counts once, and of each row only the twelve nearest such
+  * neighbours are looked at (wider neighbourhoods reach points that any mesh puts
+  * farther apart).
   *
   * Telling a handle the mesh cut through. A closed genus-0 mesh through a cloud
   * with a handle that does not intersect itself has cut the handle's tube and
@@ -227,7 +229,8 @@ distantIntersectingPairs (std::size_t num_vertices,
   * \param[in] neighbours the points' neighbourhoods (e.g. their k nearest)
   * \param[in] normals one per point, oriented (need not be unit length; zero:
   *   the point is skipped)
-  * \return 0 if the sizes do not match the points */
+  * \return the count; 0 also if the neighbourhoods' or the normals' sizes do not
+  *   match the points (nothing was looked at) */
 std::size_t
 neighboursSeparatedByTheMesh (const Points3& points,
                               const Triangles& triangles,

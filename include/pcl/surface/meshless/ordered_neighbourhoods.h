@@ -31,12 +31,13 @@ struct OrderingOptions
     * around (a limb), the neighbourhood reaches its far side, whose points project
     * between the near ones and fold the ring. Default 90: all kept. */
   double max_neighbour_elevation_deg = 90.0;
-  /** \brief Width of Gaussian weights on the plane fit, in units of the mean
-    * distance from v to its six nearest candidates: a neighbour at distance d counts
-    * exp (-(d / (width * mean))^2), v itself 1. Around a part a few point spacings
-    * across, an unweighted plane through the whole neighbourhood can stand across
-    * the part; weights that fall off within a spacing fit the near side.
-    * 0: unweighted, as pcl::NormalEstimation (leastSquaresNormal). Default 0. */
+  /** \brief Width of Gaussian weights on the plane fits (weightedLeastSquaresNormal:
+    * the first over the candidates, the refit over those kept), in units of the
+    * mean distance from v to its six nearest of the points fitted. Around a part a
+    * few point spacings across, an unweighted plane through the whole
+    * neighbourhood can stand across the part; weights that fall off within a
+    * spacing fit the near side. 0 or less: unweighted, as pcl::NormalEstimation
+    * (leastSquaresNormal). Default 0. */
   double plane_weight_width = 0.0;
   /** \brief Threads ordering the rings (0 = all cores). The rings do not depend on
     * it. Default 0. */
@@ -79,8 +80,9 @@ leastSquaresNormal (const Points3& points,
   * weights: a point at distance d from v counts exp (-(d / (width * mean))^2), with
   * mean the mean distance from v to its six nearest among them; v itself, if it
   * takes part, counts 1. The eigenvector is taken as in leastSquaresNormal.
-  * \return the unit normal, or zero if fewer than three points take part, width is
-  *         not positive, or all points coincide with v
+  * \return the unit normal, or zero if fewer than three points are given (v
+  *         included if it takes part), width is not positive, the six nearest
+  *         coincide with v, or the width times their distance is not finite
   */
 Eigen::Vector3d
 weightedLeastSquaresNormal (const Points3& points,

@@ -144,9 +144,11 @@ struct ReconstructionReport
     * rejects the cloud as not sphere-like. */
   std::size_t distant_intersecting_pairs = 0;
   /** \brief Closed topologies: nearest-neighbour pairs with agreeing normals that
-    * the mesh puts more than max_local_fold_hops edges apart
+    * the mesh puts more than max_neighbour_hops edges apart
     * (neighboursSeparatedByTheMesh); above max_separated_neighbours, the mesh has
-    * cut through a handle and the cloud is rejected. */
+    * cut through a handle (or a part thinner than the spacing) and the cloud is
+    * rejected. 0 where it was not counted: disc mode, a convex hull, a failure
+    * before the final check. */
   std::size_t separated_neighbours = 0;
   /** \brief The check of the output mesh (valid when the pipeline produced one). */
   MeshReport mesh;
@@ -166,6 +168,9 @@ constexpr double max_area_against_normals = 0.08;
 /** \brief Edge distance up to which two intersecting triangles count as a local fold
   * rather than the surface passing through itself. */
 constexpr std::size_t max_local_fold_hops = 16;
+/** \brief Edge distance up to which a closed mesh may put two nearest neighbours
+  * on one side of the surface (neighboursSeparatedByTheMesh). */
+constexpr std::size_t max_neighbour_hops = 16;
 /** \brief Neighbour pairs a closed mesh may put far apart (separated_neighbours)
   * and still count as faithful: genus-0 results measured leave none, a handle cut
   * and capped leaves a loop of them around its tube. */
