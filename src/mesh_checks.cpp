@@ -953,7 +953,6 @@ distantIntersectingPairs (std::size_t num_vertices,
                           const std::vector<std::pair<std::size_t, std::size_t>>& pairs,
                           std::size_t max_hops)
 {
-  const auto valid = [&] (const Triangle& t) { return validTriangle (t, num_vertices); };
   std::vector<std::size_t> offsets;
   std::vector<pcl::index_t> adjacent;
   vertexAdjacency (num_vertices, triangles, offsets, adjacent);
@@ -966,7 +965,8 @@ distantIntersectingPairs (std::size_t num_vertices,
   std::size_t search = 0, distant = 0;
   for (const auto& [first, second] : pairs) {
     if (first >= triangles.size () || second >= triangles.size () ||
-        !valid (triangles[first]) || !valid (triangles[second]))
+        !validTriangle (triangles[first], num_vertices) ||
+        !validTriangle (triangles[second], num_vertices))
       continue;
     ++search;
     const Triangle& target = triangles[second];

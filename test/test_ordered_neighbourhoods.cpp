@@ -9,6 +9,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <random>
 
 using namespace pcl::meshless;
@@ -225,18 +226,32 @@ TEST (OrderedNeighbourhoods, BoundaryOfAnOpenDiscHasAGapOfAtLeastPi)
   EXPECT_LT (widest, pi / 8.0);
 }
 
-TEST (OrderedNeighbourhoods, LeastSquaresNormalOfAPlane)
+namespace {
+
+/** Twenty random points of the square [-1, 1]^2 in the plane through the origin
+  * with normal n, and the indices of all but the first (its neighbourhood). */
+Points3
+pointsOnAPlane (std::uint32_t seed, const Eigen::Vector3d& n, std::vector<pcl::index_t>& others)
 {
   Points3 points;
-  std::mt19937 random (1);
+  std::mt19937 random (seed);
   std::uniform_real_distribution<double> u (-1.0, 1.0);
-  const Eigen::Vector3d n = Eigen::Vector3d (0.3, -0.5, 0.8).normalized ();
   const Eigen::Vector3d a = n.unitOrthogonal (), b = n.cross (a);
   for (int i = 0; i < 20; ++i)
     points.push_back (u (random) * a + u (random) * b);
-  std::vector<pcl::index_t> others;
+  others.clear ();
   for (pcl::index_t i = 1; i < 20; ++i)
     others.push_back (i);
+  return points;
+}
+
+} // namespace
+
+TEST (OrderedNeighbourhoods, LeastSquaresNormalOfAPlane)
+{
+  const Eigen::Vector3d n = Eigen::Vector3d (0.3, -0.5, 0.8).normalized ();
+  std::vector<pcl::index_t> others;
+  const Points3 points = pointsOnAPlane (1, n, others);
   const Eigen::Vector3d fit =
       leastSquaresNormal (points, 0, others.data (), others.data () + others.size (), true);
   EXPECT_NEAR (std::abs (fit.dot (n)), 1.0, 1e-6);
@@ -285,16 +300,9 @@ TEST (OrderedNeighbourhoods, RingsOfAThinRodKeepToTheNearSideWhenSteepNeighbours
 
 TEST (OrderedNeighbourhoods, WeightedNormalOfAPlaneIsItsNormal)
 {
-  Points3 points;
-  std::mt19937 random (2);
-  std::uniform_real_distribution<double> u (-1.0, 1.0);
   const Eigen::Vector3d n = Eigen::Vector3d (-0.2, 0.7, 0.4).normalized ();
-  const Eigen::Vector3d a = n.unitOrthogonal (), b = n.cross (a);
-  for (int i = 0; i < 20; ++i)
-    points.push_back (u (random) * a + u (random) * b);
   std::vector<pcl::index_t> others;
-  for (pcl::index_t i = 1; i < 20; ++i)
-    others.push_back (i);
+  const Points3 points = pointsOnAPlane (2, n, others);
   const pcl::index_t* begin = others.data ();
   const pcl::index_t* end = begin + others.size ();
   EXPECT_NEAR (std::abs (weightedLeastSquaresNormal (points, 0, begin, end, true, 0.8).dot (n)),
