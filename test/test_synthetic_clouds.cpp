@@ -342,3 +342,38 @@ TEST (SyntheticClouds, LatticesAreSquareGridsAndHolesDropPoints)
     }
   }
 }
+
+TEST (SyntheticClouds, RowsLeaveEmptySlabsAcrossTheLongestAxis)
+{
+  // In rows four spacings apart, sorted along x the points leave gaps wider than
+  // two nearest-neighbour distances between the rows; an even sample leaves none.
+  const auto emptySlabs = [] (const Points3& points) {
+    const CsrGraph nearest = meshless_test::bruteForceKnn (points, 1);
+    std::vector<double> d, x;
+    for (std::size_t v = 0; v < points.size (); ++v) {
+      d.push_back ((points[*nearest.begin (v)] - points[v]).norm ());
+      x.push_back (points[v].x ());
+    }
+    std::nth_element (d.begin (), d.begin () + d.size () / 2, d.end ());
+    const double spacing = d[d.size () / 2];
+    std::sort (x.begin (), x.end ());
+    int slabs = 0;
+    for (std::size_t i = 1; i < x.size (); ++i)
+      slabs += x[i] - x[i - 1] > 2.0 * spacing;
+    return slabs;
+  };
+  for (const SyntheticShape shape : {SyntheticShape::Sphere, SyntheticShape::Torus,
+                                     SyntheticShape::ThinLimbs}) {
+    SCOPED_TRACE (static_cast<int> (shape));
+    SyntheticCloudOptions options{2000, 2, 0.0};
+    EXPECT_EQ (emptySlabs (sampleShape (shape, options)), 0);
+    options.stretch = 4.0;
+    const Points3 rows = sampleShape (shape, options);
+    EXPECT_NEAR (static_cast<double> (rows.size ()), 2000.0, 20.0);
+    EXPECT_EQ (rows, sampleShape (shape, options));
+    if (shape == SyntheticShape::Sphere)
+      for (const auto& p : rows)
+        EXPECT_NEAR (p.norm (), 1.0, 1e-12);
+    EXPECT_GE (emptySlabs (rows), 5);
+  }
+}

@@ -157,43 +157,80 @@ boundingBox (const Points3& points)
   return box;
 }
 
+/** The first bounding-box axis within 1% of the longest: near-equal extents (a
+  * sphere, a torus) differ by sampling. */
+int
+longestAxis (const Points3& points)
+{
+  const BoundingBox box = boundingBox (points);
+  const Eigen::Vector3d extents = box.hi - box.lo;
+  int axis = 0;
+  while (extents[axis] < 0.99 * extents.maxCoeff ())
+    ++axis;
+  return axis;
+}
+
 using Crowding = std::vector<std::vector<std::pair<std::uint32_t, double>>>;
 
-/** For every point, its neighbours closer than reach with the weights
-  * (1 - d / reach)^8 they crowd it by, found through a grid of cells of that size. */
-Crowding
-crowdingNeighbours (const Points3& points, double reach)
+/** Points binned in cubic cells, to visit those in the 27 cells around a position
+  * (all within one cell size of it, and some farther). */
+class CellGrid
 {
-  const Eigen::Vector3d origin = boundingBox (points).lo;
-  auto cellOf = [&] (const Eigen::Vector3d& p) {
-    return ((p - origin) / reach).array ().floor ().cast<std::int64_t> ().eval ();
-  };
-  // Cells count from 0 at the box's corner, their neighbours from -1: shift by one so
-  // that keys stay non-negative (fewer than 2^21 cells per axis).
-  auto key = [] (std::int64_t x, std::int64_t y, std::int64_t z) {
-    return ((x + 1) << 42) | ((y + 1) << 21) | (z + 1);
-  };
-  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> grid;
-  for (std::size_t i = 0; i < points.size (); ++i) {
-    const auto c = cellOf (points[i]);
-    grid[key (c.x (), c.y (), c.z ())].push_back (static_cast<std::uint32_t> (i));
+public:
+  CellGrid (const Points3& points, double cell) : origin_ (boundingBox (points).lo), cell_ (cell)
+  {
+    for (std::size_t i = 0; i < points.size (); ++i)
+      cells_[keyOf (cellOf (points[i]))].push_back (static_cast<std::uint32_t> (i));
   }
-  Crowding crowding (points.size ());
-  for (std::size_t i = 0; i < points.size (); ++i) {
-    const auto c = cellOf (points[i]);
+
+  template <typename Visit>
+  void
+  forEachNear (const Eigen::Vector3d& p, Visit visit) const
+  {
+    const Eigen::Array<std::int64_t, 3, 1> c = cellOf (p);
     for (int dx = -1; dx <= 1; ++dx)
       for (int dy = -1; dy <= 1; ++dy)
         for (int dz = -1; dz <= 1; ++dz) {
-          const auto cell = grid.find (key (c.x () + dx, c.y () + dy, c.z () + dz));
-          if (cell == grid.end ())
-            continue;
-          for (const std::uint32_t j : cell->second) {
-            const double d = (points[i] - points[j]).norm ();
-            if (j != i && d < reach)
-              crowding[i].emplace_back (j, std::pow (1.0 - d / reach, 8.0));
-          }
+          const auto found = cells_.find (keyOf (c + Eigen::Array<std::int64_t, 3, 1> (dx, dy, dz)));
+          if (found != cells_.end ())
+            for (const std::uint32_t j : found->second)
+              visit (j);
         }
   }
+
+private:
+  Eigen::Array<std::int64_t, 3, 1>
+  cellOf (const Eigen::Vector3d& p) const
+  {
+    return ((p - origin_) / cell_).array ().floor ().cast<std::int64_t> ();
+  }
+
+  // Cells count from 0 at the box's corner, their neighbours from -1: shift by one so
+  // that keys stay non-negative (fewer than 2^21 cells per axis).
+  static std::int64_t
+  keyOf (const Eigen::Array<std::int64_t, 3, 1>& c)
+  {
+    return ((c.x () + 1) << 42) | ((c.y () + 1) << 21) | (c.z () + 1);
+  }
+
+  Eigen::Vector3d origin_;
+  double cell_;
+  std::unordered_map<std::int64_t, std::vector<std::uint32_t>> cells_;
+};
+
+/** For every point, its neighbours closer than reach with the weights
+  * (1 - d / reach)^8 they crowd it by. */
+Crowding
+crowdingNeighbours (const Points3& points, double reach)
+{
+  const CellGrid grid (points, reach);
+  Crowding crowding (points.size ());
+  for (std::size_t i = 0; i < points.size (); ++i)
+    grid.forEachNear (points[i], [&] (std::uint32_t j) {
+      const double d = (points[i] - points[j]).norm ();
+      if (j != i && d < reach)
+        crowding[i].emplace_back (j, std::pow (1.0 - d / reach, 8.0));
+    });
   return crowding;
 }
 
@@ -393,32 +430,53 @@ sampleImplicit (const Function& function,
   return points;
 }
 
+/** The shapes sampled on a jittered lattice (sampleLattice), not by elimination. */
+bool
+onALattice (SyntheticShape shape)
+{
+  switch (shape) {
+  case SyntheticShape::ThinTorus:
+  case SyntheticShape::FatTorus:
+  case SyntheticShape::KnottedTube:
+  case SyntheticShape::DoubleTorus:
+  case SyntheticShape::ThinLimbs:
+    return false;
+  default:
+    return true;
+  }
+}
+
+/** `count` candidates uniform per area: random points on the shapes sampled through
+  * a function (their area returned), the jittered lattice on the others (area 0). */
+Points3
+uniformCandidates (SyntheticShape shape, std::size_t count, std::mt19937& random, double& area)
+{
+  area = 0.0;
+  switch (shape) {
+  case SyntheticShape::ThinTorus:
+  case SyntheticShape::FatTorus:
+  case SyntheticShape::KnottedTube:
+    return sampleParametric (shape, count, random, area);
+  case SyntheticShape::DoubleTorus:
+    return sampleImplicit (doubleTorusFunction, {1.2, 0.6, 0.15}, 0.005, count, random, area);
+  case SyntheticShape::ThinLimbs:
+    return sampleImplicit (thinLimbsFunction, {1.6, 1.6, 1.6}, 0.02, count, random, area);
+  default:
+    return sampleLattice (shape, count, random);
+  }
+}
+
 /** n points evenly spread on a shape, uniform per area. */
 Points3
 sampleUniformly (SyntheticShape shape, std::size_t n, std::mt19937& random)
 {
   if (n == 0)
     return {};
-  const std::size_t candidates = 5 * n;
-  double area = 0.0;
-  Points3 points;
-  switch (shape) {
-  case SyntheticShape::ThinTorus:
-  case SyntheticShape::FatTorus:
-  case SyntheticShape::KnottedTube:
-    points = sampleParametric (shape, candidates, random, area);
-    break;
-  case SyntheticShape::DoubleTorus:
-    points = sampleImplicit (doubleTorusFunction, {1.2, 0.6, 0.15}, 0.005, candidates, random,
-                            area);
-    break;
-  case SyntheticShape::ThinLimbs:
-    points = sampleImplicit (thinLimbsFunction, {1.6, 1.6, 1.6}, 0.02, candidates, random, area);
-    break;
-  default:
+  if (onALattice (shape))
     return sampleLattice (shape, n, random);
-  }
-  return eliminateCrowded (points, n, area);
+  double area = 0.0;
+  const Points3 candidates = uniformCandidates (shape, 5 * n, random, area);
+  return eliminateCrowded (candidates, n, area);
 }
 
 /** n points whose density grows smoothly by the factor ratio along the longest axis
@@ -434,11 +492,7 @@ sampleUnevenly (SyntheticShape shape, std::size_t n, double ratio, std::mt19937&
     Points3 uniform = sampleUniformly (shape, m, random);
     std::shuffle (uniform.begin (), uniform.end (), random);
     const BoundingBox box = boundingBox (uniform);
-    // Near-equal extents (a sphere, a torus) differ by sampling: take the first.
-    const Eigen::Vector3d extents = box.hi - box.lo;
-    int axis = 0;
-    while (extents[axis] < 0.99 * extents.maxCoeff ())
-      ++axis;
+    const int axis = longestAxis (uniform);
     const double extent = box.hi[axis] - box.lo[axis];
     Points3 kept;
     kept.reserve (n);
@@ -478,6 +532,64 @@ sampleInClusters (SyntheticShape shape, std::size_t n, std::size_t size, std::mt
       points.push_back (dense[members[j].second]);
   }
   return points;
+}
+
+/** Points per unit area of a sample spread over a surface: the mean count within
+  * four median nearest-neighbour distances of every 16th point, over that disc's
+  * area. */
+double
+areaDensity (const Points3& points)
+{
+  const BoundingBox box = boundingBox (points);
+  const double cell =
+      4.0 * (box.hi - box.lo).norm () / std::sqrt (static_cast<double> (points.size ()));
+  const CellGrid grid (points, cell);
+  std::vector<std::vector<double>> distances;
+  std::vector<double> nearest;
+  for (std::size_t i = 0; i < points.size (); i += 16) {
+    std::vector<double> d;
+    grid.forEachNear (points[i], [&] (std::uint32_t j) {
+      if (j != i)
+        d.push_back ((points[j] - points[i]).norm ());
+    });
+    nearest.push_back (d.empty () ? cell : *std::min_element (d.begin (), d.end ()));
+    distances.push_back (std::move (d));
+  }
+  std::nth_element (nearest.begin (), nearest.begin () + nearest.size () / 2, nearest.end ());
+  const double reach = std::min (cell, 4.0 * nearest[nearest.size () / 2]);
+  double count = 0.0;
+  for (const auto& d : distances)
+    count += 1.0 + static_cast<double> (
+                       std::count_if (d.begin (), d.end (), [&] (double x) { return x < reach; }));
+  return count / static_cast<double> (distances.size ()) / (pi * reach * reach);
+}
+
+/** About n points in rows: the shape cut by planes across its longest axis,
+  * `stretch` times the spacing along a row apart, at an offset set by the seed; in
+  * each cut the candidates within a quarter of that spacing of its plane, thinned
+  * to the spacing (eliminateCrowded: the rows lie farther apart than its reach). */
+Points3
+sampleInRows (SyntheticShape shape, std::size_t n, double stretch, std::mt19937& random)
+{
+  const auto m = static_cast<std::size_t> (10.0 * std::ceil (stretch) * static_cast<double> (n));
+  double area = 0.0;
+  const Points3 candidates = uniformCandidates (shape, m, random, area);
+  if (area == 0.0)
+    area = static_cast<double> (candidates.size ()) / areaDensity (candidates);
+  // n points on rows of total length area / (stretch spacing), spacing apart.
+  const double spacing = std::sqrt (area / (stretch * static_cast<double> (n)));
+  const double gap = stretch * spacing;
+  const int axis = longestAxis (candidates);
+  const double offset = std::uniform_real_distribution<double> (0.0, gap) (random);
+  Points3 near_a_cut;
+  for (const auto& p : candidates) {
+    const double from_cut = std::remainder (p[axis] - offset, gap);
+    if (std::abs (from_cut) < 0.25 * spacing)
+      near_a_cut.push_back (p);
+  }
+  // eliminateCrowded's reach, 2 sqrt (area / (2 sqrt 3 n)), is then twice the spacing.
+  return eliminateCrowded (near_a_cut, n, 2.0 * std::sqrt (3.0) * static_cast<double> (n) *
+                                            spacing * spacing);
 }
 
 /** The open shapes' square grid over the unit disc, turned and shifted at random. */
@@ -536,6 +648,7 @@ sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
       : options.cluster_size > 1
           ? sampleInClusters (shape, options.num_points, options.cluster_size, random)
       : options.lattice && open ? sampleOnLattice (shape, options.num_points, random)
+      : options.stretch > 1.0   ? sampleInRows (shape, options.num_points, options.stretch, random)
                                 : sampleUniformly (shape, options.num_points, random);
   if (open && options.holes > 0) {
     const double radius = 0.15;

@@ -75,6 +75,13 @@ struct SyntheticCloudOptions
     * and at least three radii apart; the points inside are dropped, so fewer than
     * num_points remain. Ignored for the closed shapes. Default 0. */
   std::size_t holes = 0;
+  /** \brief Points in rows across the shape's longest bounding-box axis (the first
+    * of those within 1% of the longest), this many times the spacing along a row
+    * apart: like the vertices of a mesh whose triangles are long one way (rings
+    * around a limb spaced apart along it). About num_points; fewer where the cuts
+    * hold too few candidates. Ignored with `uneven`, `cluster_size` or `lattice`;
+    * at most 1: even spacing. */
+  double stretch = 0.0;
 };
 
 /** \brief Points sampled on a shape, close to uniformly per area (a jittered
