@@ -251,10 +251,9 @@ TEST (ClosedTopology, ThinLimbsCloseAsGenusZero)
 TEST (ClosedTopology, SamplesInRowsComeOutWithTheirGenusOrNone)
 {
   // Points in rows two or three spacings apart (the vertices of long thin
-  // triangles): the rings of neighbouring rows disagree, and the genus may not be
-  // found. A member comes out closed with the generator's genus, or is refused with
-  // no genus claimed; measured, the torus closes in most members.
-  int closed_tori = 0;
+  // triangles): the closed topology finds the genus on nearly every member; a member
+  // it misses is refused with no genus claimed, never closed with another.
+  int closed = 0;
   for (const SyntheticShape shape : {SyntheticShape::Torus, SyntheticShape::DoubleTorus})
     for (const double stretch : {2.0, 3.0})
       for (std::uint32_t seed = 1; seed <= 3; ++seed) {
@@ -272,14 +271,14 @@ TEST (ClosedTopology, SamplesInRowsComeOutWithTheirGenusOrNone)
         if (report.success) {
           EXPECT_EQ (report.stats.genus, genus);
           expectClosedOfGenus (*reconstruction.getVertexCloud (), polygons, genus);
-          closed_tori += genus == 1;
+          ++closed;
           continue;
         }
         EXPECT_TRUE (polygons.empty ());
         EXPECT_FALSE (report.message.empty ());
         EXPECT_NE (report.stats.genus, 0) << report.message;
       }
-  EXPECT_GE (closed_tori, 4);
+  EXPECT_GE (closed, 10) << "of 12";
 }
 
 /** A shared cloud through the closed topology: success, the genus expected and

@@ -830,24 +830,24 @@ TEST (Robustness, LimbsAFewPointsAroundCloseOnRingsOfTheirNearSide)
 
 TEST (Robustness, SamplesInRowsCloseOnSmoothShapesAndNeverComeOutWrong)
 {
-  // Points in rows two or three spacings apart (the vertices of a mesh whose
+  // Points in rows two to four spacings apart (the vertices of a mesh whose
   // triangles are long one way): on a smooth shape every member closes with every
-  // invariant. Rows four apart on the sphere, or across thin limbs, often leave the
-  // paths no room or the graph in pieces: those may fail, with a message
-  // (expectContract), never with a wrong mesh.
+  // invariant. Across thin limbs the rows leave the paths no room about half the
+  // time: those fail with a message (expectContract), never with a wrong mesh.
   const auto inRows = [] (SyntheticShape s, std::uint32_t seed, double stretch) {
     pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0};
     options.stretch = stretch;
     return toCloud (pcl::meshless::sampleShape (s, options));
   };
-  for (const double stretch : {2.0, 3.0})
-    for (const std::uint32_t seed : {1u, 2u, 3u}) {
-      SCOPED_TRACE ("rows " + std::to_string (stretch) + ", seed " + std::to_string (seed));
-      expectMesh (expectContract (inRows (SyntheticShape::BumpySphere, seed, stretch)));
-    }
+  for (const SyntheticShape s : {SyntheticShape::Sphere, SyntheticShape::BumpySphere})
+    for (const double stretch : {2.0, 4.0})
+      for (const std::uint32_t seed : {1u, 2u}) {
+        SCOPED_TRACE (std::to_string (static_cast<int> (s)) + ", rows " +
+                      std::to_string (stretch) + ", seed " + std::to_string (seed));
+        expectMesh (expectContract (inRows (s, seed, stretch)));
+      }
   for (const std::uint32_t seed : {1u, 2u}) {
-    SCOPED_TRACE ("seed " + std::to_string (seed));
-    expectContract (inRows (SyntheticShape::Sphere, seed, 4.0));
+    SCOPED_TRACE ("limbs, seed " + std::to_string (seed));
     expectContract (inRows (SyntheticShape::ThinLimbs, seed, 3.0));
   }
 }

@@ -566,8 +566,11 @@ areaDensity (const Points3& points)
 
 /** About n points in rows: the shape cut by planes across its longest axis,
   * `stretch` times the spacing along a row apart, at an offset set by the seed; in
-  * each cut the candidates within a quarter of that spacing of its plane, thinned
-  * to the spacing (eliminateCrowded: the rows lie farther apart than its reach). */
+  * each cut the candidates within a quarter of that spacing of its plane. Where the
+  * surface turns across the axis (a sphere's poles) the cuts lie far apart along
+  * it: the candidates farther than three quarters of the rows' gap from every cut
+  * fill it. All are thinned to the spacing (eliminateCrowded: the rows lie farther
+  * apart than its reach). */
 Points3
 sampleInRows (SyntheticShape shape, std::size_t n, double stretch, std::mt19937& random)
 {
@@ -581,15 +584,24 @@ sampleInRows (SyntheticShape shape, std::size_t n, double stretch, std::mt19937&
   const double gap = stretch * spacing;
   const int axis = longestAxis (candidates);
   const double offset = std::uniform_real_distribution<double> (0.0, gap) (random);
-  Points3 near_a_cut;
+  Points3 kept;
+  for (const auto& p : candidates)
+    if (std::abs (std::remainder (p[axis] - offset, gap)) < 0.25 * spacing)
+      kept.push_back (p);
+  const CellGrid near_a_cut (kept, 0.75 * gap);
+  Points3 far_from_cuts;
   for (const auto& p : candidates) {
-    const double from_cut = std::remainder (p[axis] - offset, gap);
-    if (std::abs (from_cut) < 0.25 * spacing)
-      near_a_cut.push_back (p);
+    bool covered = false;
+    near_a_cut.forEachNear (p, [&] (std::uint32_t j) {
+      covered = covered || (kept[j] - p).norm () <= 0.75 * gap;
+    });
+    if (!covered)
+      far_from_cuts.push_back (p);
   }
+  kept.insert (kept.end (), far_from_cuts.begin (), far_from_cuts.end ());
   // eliminateCrowded's reach, 2 sqrt (area / (2 sqrt 3 n)), is then twice the spacing.
-  return eliminateCrowded (near_a_cut, n, 2.0 * std::sqrt (3.0) * static_cast<double> (n) *
-                                            spacing * spacing);
+  return eliminateCrowded (kept, n, 2.0 * std::sqrt (3.0) * static_cast<double> (n) *
+                                        spacing * spacing);
 }
 
 /** The open shapes' square grid over the unit disc, turned and shifted at random. */
