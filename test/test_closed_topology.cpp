@@ -252,7 +252,7 @@ TEST (ClosedTopology, SamplesInRowsComeOutWithTheirGenusOrNone)
 {
   // Points in rows two or three spacings apart (the vertices of long thin
   // triangles): the closed topology finds the genus on nearly every member; a member
-  // it misses is refused with no genus claimed, never closed with another.
+  // it misses is refused claiming no other genus, never closed with another.
   int closed = 0;
   for (const SyntheticShape shape : {SyntheticShape::Torus, SyntheticShape::DoubleTorus})
     for (const double stretch : {2.0, 3.0})
@@ -276,7 +276,8 @@ TEST (ClosedTopology, SamplesInRowsComeOutWithTheirGenusOrNone)
         }
         EXPECT_TRUE (polygons.empty ());
         EXPECT_FALSE (report.message.empty ());
-        EXPECT_NE (report.stats.genus, 0) << report.message;
+        EXPECT_TRUE (report.stats.genus == -1 || report.stats.genus == genus)
+            << report.stats.genus << ": " << report.message;
       }
   EXPECT_GE (closed, 10) << "of 12";
 }

@@ -832,8 +832,8 @@ TEST (Robustness, SamplesInRowsCloseOnSmoothShapesAndNeverComeOutWrong)
 {
   // Points in rows two to four spacings apart (the vertices of a mesh whose
   // triangles are long one way): on a smooth shape every member closes with every
-  // invariant. Across thin limbs the rows leave the paths no room about half the
-  // time: those fail with a message (expectContract), never with a wrong mesh.
+  // invariant. Across thin limbs the rows often leave the paths no room: those
+  // fail with a message (expectContract), never with a wrong mesh.
   const auto inRows = [] (SyntheticShape s, std::uint32_t seed, double stretch) {
     pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0};
     options.stretch = stretch;

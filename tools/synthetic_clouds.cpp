@@ -173,11 +173,13 @@ longestAxis (const Points3& points)
 using Crowding = std::vector<std::vector<std::pair<std::uint32_t, double>>>;
 
 /** Points binned in cubic cells, to visit those in the 27 cells around a position
-  * (all within one cell size of it, and some farther). */
+  * (all within one cell size of it, and some farther). Positions searched must not
+  * lie below `origin` on any axis. */
 class CellGrid
 {
 public:
-  CellGrid (const Points3& points, double cell) : origin_ (boundingBox (points).lo), cell_ (cell)
+  CellGrid (const Points3& points, double cell, const Eigen::Vector3d& origin)
+    : origin_ (origin), cell_ (cell)
   {
     for (std::size_t i = 0; i < points.size (); ++i)
       cells_[keyOf (cellOf (points[i]))].push_back (static_cast<std::uint32_t> (i));
@@ -223,7 +225,7 @@ private:
 Crowding
 crowdingNeighbours (const Points3& points, double reach)
 {
-  const CellGrid grid (points, reach);
+  const CellGrid grid (points, reach, boundingBox (points).lo);
   Crowding crowding (points.size ());
   for (std::size_t i = 0; i < points.size (); ++i)
     grid.forEachNear (points[i], [&] (std::uint32_t j) {
@@ -535,15 +537,15 @@ sampleInClusters (SyntheticShape shape, std::size_t n, std::size_t size, std::mt
 }
 
 /** Points per unit area of a sample spread over a surface: the mean count within
-  * four median nearest-neighbour distances of every 16th point, over that disc's
-  * area. */
+  * four median nearest-neighbour distances (at most the grid's cell) of every 16th
+  * point, over that disc's area. */
 double
 areaDensity (const Points3& points)
 {
   const BoundingBox box = boundingBox (points);
   const double cell =
       4.0 * (box.hi - box.lo).norm () / std::sqrt (static_cast<double> (points.size ()));
-  const CellGrid grid (points, cell);
+  const CellGrid grid (points, cell, box.lo);
   std::vector<std::vector<double>> distances;
   std::vector<double> nearest;
   for (std::size_t i = 0; i < points.size (); i += 16) {
@@ -564,16 +566,21 @@ areaDensity (const Points3& points)
   return count / static_cast<double> (distances.size ()) / (pi * reach * reach);
 }
 
-/** About n points in rows: the shape cut by planes across its longest axis,
-  * `stretch` times the spacing along a row apart, at an offset set by the seed; in
-  * each cut the candidates within a quarter of that spacing of its plane. Where the
-  * surface turns across the axis (a sphere's poles) the cuts lie far apart along
-  * it: the candidates farther than three quarters of the rows' gap from every cut
-  * fill it. All are thinned to the spacing (eliminateCrowded: the rows lie farther
-  * apart than its reach). */
+/** n points in rows (fewer only if the candidates are): the shape cut by planes
+  * across its longest axis, `stretch` times the spacing along a row apart, at an
+  * offset set by the seed; in each cut the candidates within a quarter of that
+  * spacing of its plane. Where the surface turns across the axis (a sphere's poles)
+  * the cuts lie far apart along it: the candidates farther than three quarters of
+  * the rows' gap from every cut fill it. All are thinned to the spacing
+  * (eliminateCrowded; from a stretch of about 2.5 the rows lie farther apart than
+  * its reach, below it neighbouring rows crowd each other too). */
 Points3
 sampleInRows (SyntheticShape shape, std::size_t n, double stretch, std::mt19937& random)
 {
+  if (n == 0)
+    return {};
+  // Ten times as many candidates per row gap as points, so that a quarter-spacing
+  // strip around each cut still holds several times the points it keeps.
   const auto m = static_cast<std::size_t> (10.0 * std::ceil (stretch) * static_cast<double> (n));
   double area = 0.0;
   const Points3 candidates = uniformCandidates (shape, m, random, area);
@@ -582,26 +589,28 @@ sampleInRows (SyntheticShape shape, std::size_t n, double stretch, std::mt19937&
   // n points on rows of total length area / (stretch spacing), spacing apart.
   const double spacing = std::sqrt (area / (stretch * static_cast<double> (n)));
   const double gap = stretch * spacing;
+  const double even_area = 2.0 * std::sqrt (3.0) * static_cast<double> (n) * spacing * spacing;
   const int axis = longestAxis (candidates);
   const double offset = std::uniform_real_distribution<double> (0.0, gap) (random);
-  Points3 kept;
+  Points3 rows_and_caps;
   for (const auto& p : candidates)
     if (std::abs (std::remainder (p[axis] - offset, gap)) < 0.25 * spacing)
-      kept.push_back (p);
-  const CellGrid near_a_cut (kept, 0.75 * gap);
+      rows_and_caps.push_back (p);
+  if (rows_and_caps.empty ()) // rows wider apart than the shape
+    return eliminateCrowded (candidates, n, even_area);
+  const CellGrid cut_points (rows_and_caps, 0.75 * gap, boundingBox (candidates).lo);
   Points3 far_from_cuts;
   for (const auto& p : candidates) {
     bool covered = false;
-    near_a_cut.forEachNear (p, [&] (std::uint32_t j) {
-      covered = covered || (kept[j] - p).norm () <= 0.75 * gap;
+    cut_points.forEachNear (p, [&] (std::uint32_t j) {
+      covered = covered || (rows_and_caps[j] - p).norm () <= 0.75 * gap;
     });
     if (!covered)
       far_from_cuts.push_back (p);
   }
-  kept.insert (kept.end (), far_from_cuts.begin (), far_from_cuts.end ());
+  rows_and_caps.insert (rows_and_caps.end (), far_from_cuts.begin (), far_from_cuts.end ());
   // eliminateCrowded's reach, 2 sqrt (area / (2 sqrt 3 n)), is then twice the spacing.
-  return eliminateCrowded (kept, n, 2.0 * std::sqrt (3.0) * static_cast<double> (n) *
-                                        spacing * spacing);
+  return eliminateCrowded (rows_and_caps, n, even_area);
 }
 
 /** The open shapes' square grid over the unit disc, turned and shifted at random. */
@@ -660,8 +669,9 @@ sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options)
       : options.cluster_size > 1
           ? sampleInClusters (shape, options.num_points, options.cluster_size, random)
       : options.lattice && open ? sampleOnLattice (shape, options.num_points, random)
-      : options.stretch > 1.0   ? sampleInRows (shape, options.num_points, options.stretch, random)
-                                : sampleUniformly (shape, options.num_points, random);
+      : options.stretch > 1.0 && std::isfinite (options.stretch)
+          ? sampleInRows (shape, options.num_points, options.stretch, random)
+          : sampleUniformly (shape, options.num_points, random);
   if (open && options.holes > 0) {
     const double radius = 0.15;
     std::uniform_real_distribution<double> unit (0.0, 1.0);

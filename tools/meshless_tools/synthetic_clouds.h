@@ -78,9 +78,10 @@ struct SyntheticCloudOptions
   /** \brief Points in rows across the shape's longest bounding-box axis (the first
     * of those within 1% of the longest), this many times the spacing along a row
     * apart: like the vertices of a mesh whose triangles are long one way (rings
-    * around a limb spaced apart along it). About num_points; fewer where the cuts
-    * hold too few candidates. Ignored with `uneven`, `cluster_size` or `lattice`;
-    * at most 1: even spacing. */
+    * around a limb spaced apart along it); where the surface turns across the axis
+    * the gaps between the rows are filled. Ignored with `uneven` or
+    * `cluster_size`, and on the open shapes with `lattice`; at most 1, or not
+    * finite: even spacing. */
   double stretch = 0.0;
 };
 
@@ -89,7 +90,8 @@ struct SyntheticCloudOptions
   * discs; on the other shapes five times as many random points, uniform per area, of
   * which the most crowded are removed one at a time), so that the spacing is even
   * without being a regular grid. With options.uneven > 1, a random subset of a larger
-  * uniform cloud, kept with probability proportional to the density asked for. */
+  * uniform cloud, kept with probability proportional to the density asked for; with
+  * options.stretch > 1, in rows. */
 Points3
 sampleShape (SyntheticShape shape, const SyntheticCloudOptions& options = {});
 
