@@ -343,37 +343,58 @@ TEST (SyntheticClouds, LatticesAreSquareGridsAndHolesDropPoints)
   }
 }
 
-TEST (SyntheticClouds, RowsLeaveEmptySlabsAcrossTheLongestAxis)
+TEST (SyntheticClouds, RowsLeaveEmptySlabsStretchTimesTheSpacingApart)
 {
-  // In rows four spacings apart, sorted along x the points leave gaps wider than
-  // two nearest-neighbour distances between the rows; an even sample leaves none.
+  // In rows `stretch` spacings apart, sorted along the rows' axis the points leave
+  // gaps wider than two nearest-neighbour distances between the rows, about stretch
+  // of them wide (less a row's width); an even sample leaves none along any axis.
+  struct Slabs
+  {
+    int count = 0;
+    double median_width = 0.0; // in median nearest-neighbour distances
+  };
   const auto emptySlabs = [] (const Points3& points) {
     const CsrGraph nearest = meshless_test::bruteForceKnn (points, 1);
-    std::vector<double> d, x;
-    for (std::size_t v = 0; v < points.size (); ++v) {
+    std::vector<double> d;
+    for (std::size_t v = 0; v < points.size (); ++v)
       d.push_back ((points[*nearest.begin (v)] - points[v]).norm ());
-      x.push_back (points[v].x ());
-    }
     std::nth_element (d.begin (), d.begin () + d.size () / 2, d.end ());
     const double spacing = d[d.size () / 2];
-    std::sort (x.begin (), x.end ());
-    int slabs = 0;
-    for (std::size_t i = 1; i < x.size (); ++i)
-      slabs += x[i] - x[i - 1] > 2.0 * spacing;
-    return slabs;
+    Slabs most; // along the axis with the most of them: the rows' axis
+    for (int axis = 0; axis < 3; ++axis) {
+      std::vector<double> x;
+      for (const auto& p : points)
+        x.push_back (p[axis]);
+      std::sort (x.begin (), x.end ());
+      std::vector<double> widths;
+      for (std::size_t i = 1; i < x.size (); ++i)
+        if (x[i] - x[i - 1] > 2.0 * spacing)
+          widths.push_back ((x[i] - x[i - 1]) / spacing);
+      if (static_cast<int> (widths.size ()) > most.count) {
+        std::nth_element (widths.begin (), widths.begin () + widths.size () / 2, widths.end ());
+        most = {static_cast<int> (widths.size ()), widths[widths.size () / 2]};
+      }
+    }
+    return most;
   };
   for (const SyntheticShape shape : {SyntheticShape::Sphere, SyntheticShape::Torus,
                                      SyntheticShape::ThinLimbs}) {
     SCOPED_TRACE (static_cast<int> (shape));
     SyntheticCloudOptions options{2000, 2, 0.0};
-    EXPECT_EQ (emptySlabs (sampleShape (shape, options)), 0);
-    options.stretch = 4.0;
-    const Points3 rows = sampleShape (shape, options);
-    EXPECT_NEAR (static_cast<double> (rows.size ()), 2000.0, 20.0);
-    EXPECT_EQ (rows, sampleShape (shape, options));
-    if (shape == SyntheticShape::Sphere)
-      for (const auto& p : rows)
-        EXPECT_NEAR (p.norm (), 1.0, 1e-12);
-    EXPECT_GE (emptySlabs (rows), 5);
+    EXPECT_EQ (emptySlabs (sampleShape (shape, options)).count, 0);
+    for (const double stretch : {3.0, 4.0}) {
+      SCOPED_TRACE (stretch);
+      options.stretch = stretch;
+      const Points3 rows = sampleShape (shape, options);
+      EXPECT_NEAR (static_cast<double> (rows.size ()), 2000.0, 20.0);
+      EXPECT_EQ (rows, sampleShape (shape, options));
+      if (shape == SyntheticShape::Sphere)
+        for (const auto& p : rows)
+          EXPECT_NEAR (p.norm (), 1.0, 1e-12);
+      const Slabs slabs = emptySlabs (rows);
+      EXPECT_GE (slabs.count, 5);
+      EXPECT_GT (slabs.median_width, 0.8 * stretch);
+      EXPECT_LT (slabs.median_width, 1.1 * stretch);
+    }
   }
 }

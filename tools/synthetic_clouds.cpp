@@ -200,6 +200,24 @@ public:
         }
   }
 
+  /** Whether `test` holds for a point in the 27 cells around p; stops at the first. */
+  template <typename Test>
+  bool
+  anyNear (const Eigen::Vector3d& p, Test test) const
+  {
+    const Eigen::Array<std::int64_t, 3, 1> c = cellOf (p);
+    for (int dx = -1; dx <= 1; ++dx)
+      for (int dy = -1; dy <= 1; ++dy)
+        for (int dz = -1; dz <= 1; ++dz) {
+          const auto found = cells_.find (keyOf (c + Eigen::Array<std::int64_t, 3, 1> (dx, dy, dz)));
+          if (found != cells_.end ())
+            for (const std::uint32_t j : found->second)
+              if (test (j))
+                return true;
+        }
+    return false;
+  }
+
 private:
   Eigen::Array<std::int64_t, 3, 1>
   cellOf (const Eigen::Vector3d& p) const
@@ -454,17 +472,15 @@ Points3
 uniformCandidates (SyntheticShape shape, std::size_t count, std::mt19937& random, double& area)
 {
   area = 0.0;
+  if (onALattice (shape))
+    return sampleLattice (shape, count, random);
   switch (shape) {
-  case SyntheticShape::ThinTorus:
-  case SyntheticShape::FatTorus:
-  case SyntheticShape::KnottedTube:
-    return sampleParametric (shape, count, random, area);
   case SyntheticShape::DoubleTorus:
     return sampleImplicit (doubleTorusFunction, {1.2, 0.6, 0.15}, 0.005, count, random, area);
   case SyntheticShape::ThinLimbs:
     return sampleImplicit (thinLimbsFunction, {1.6, 1.6, 1.6}, 0.02, count, random, area);
   default:
-    return sampleLattice (shape, count, random);
+    return sampleParametric (shape, count, random, area);
   }
 }
 
@@ -584,7 +600,7 @@ sampleInRows (SyntheticShape shape, std::size_t n, double stretch, std::mt19937&
   const auto m = static_cast<std::size_t> (10.0 * std::ceil (stretch) * static_cast<double> (n));
   double area = 0.0;
   const Points3 candidates = uniformCandidates (shape, m, random, area);
-  if (area == 0.0)
+  if (onALattice (shape))
     area = static_cast<double> (candidates.size ()) / areaDensity (candidates);
   // n points on rows of total length area / (stretch spacing), spacing apart.
   const double spacing = std::sqrt (area / (stretch * static_cast<double> (n)));
@@ -600,14 +616,11 @@ sampleInRows (SyntheticShape shape, std::size_t n, double stretch, std::mt19937&
     return eliminateCrowded (candidates, n, even_area);
   const CellGrid cut_points (rows_and_caps, 0.75 * gap, boundingBox (candidates).lo);
   Points3 far_from_cuts;
-  for (const auto& p : candidates) {
-    bool covered = false;
-    cut_points.forEachNear (p, [&] (std::uint32_t j) {
-      covered = covered || (rows_and_caps[j] - p).norm () <= 0.75 * gap;
-    });
-    if (!covered)
+  for (const auto& p : candidates)
+    if (!cut_points.anyNear (p, [&] (std::uint32_t j) {
+          return (rows_and_caps[j] - p).norm () <= 0.75 * gap;
+        }))
       far_from_cuts.push_back (p);
-  }
   rows_and_caps.insert (rows_and_caps.end (), far_from_cuts.begin (), far_from_cuts.end ());
   // eliminateCrowded's reach, 2 sqrt (area / (2 sqrt 3 n)), is then twice the spacing.
   return eliminateCrowded (rows_and_caps, n, even_area);
