@@ -56,7 +56,8 @@ triangulatePatch (const Points3& points,
   if (delaunay.num_duplicates > 0) {
     result.message = std::to_string (delaunay.num_duplicates) +
                      " point(s) of a patch coincide with others in parameter space (the "
-                     "map collapses there; duplicate input points or too few neighbours)";
+                     "map squeezes a thin part far inside the patch below double "
+                     "precision, or rings with too few neighbours collapse)";
     return result;
   }
   // The hull must be the loop, in order: local indices 0 .. loop_size-1 cyclically.
