@@ -57,7 +57,8 @@ triangulatePatch (const Points3& points,
     result.message = std::to_string (delaunay.num_duplicates) +
                      " point(s) of a patch coincide with others in parameter space (the "
                      "map squeezes a thin part far inside the patch below double "
-                     "precision, or rings with too few neighbours collapse)";
+                     "precision, or the points are duplicates; another base mesh, or "
+                     "more points across the part, may avoid it)";
     return result;
   }
   // The hull must be the loop, in order: local indices 0 .. loop_size-1 cyclically.

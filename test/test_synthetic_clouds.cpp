@@ -354,6 +354,8 @@ TEST (SyntheticClouds, RowsLeaveEmptySlabsStretchTimesTheSpacingApart)
     double median_width = 0.0; // in median nearest-neighbour distances
   };
   const auto emptySlabs = [] (const Points3& points) {
+    if (points.empty ())
+      return Slabs{-1, 0.0}; // fails both the even and the rows expectations
     const CsrGraph nearest = meshless_test::bruteForceKnn (points, 1);
     std::vector<double> d;
     for (std::size_t v = 0; v < points.size (); ++v)
@@ -393,8 +395,8 @@ TEST (SyntheticClouds, RowsLeaveEmptySlabsStretchTimesTheSpacingApart)
           EXPECT_NEAR (p.norm (), 1.0, 1e-12);
       const Slabs slabs = emptySlabs (rows);
       EXPECT_GE (slabs.count, 5);
-      EXPECT_GT (slabs.median_width, 0.8 * stretch);
-      EXPECT_LT (slabs.median_width, 1.1 * stretch);
+      EXPECT_GT (slabs.median_width, 0.75 * stretch);
+      EXPECT_LT (slabs.median_width, 1.15 * stretch);
     }
   }
 }

@@ -475,12 +475,16 @@ uniformCandidates (SyntheticShape shape, std::size_t count, std::mt19937& random
   if (onALattice (shape))
     return sampleLattice (shape, count, random);
   switch (shape) {
+  case SyntheticShape::ThinTorus:
+  case SyntheticShape::FatTorus:
+  case SyntheticShape::KnottedTube:
+    return sampleParametric (shape, count, random, area);
   case SyntheticShape::DoubleTorus:
     return sampleImplicit (doubleTorusFunction, {1.2, 0.6, 0.15}, 0.005, count, random, area);
   case SyntheticShape::ThinLimbs:
     return sampleImplicit (thinLimbsFunction, {1.6, 1.6, 1.6}, 0.02, count, random, area);
-  default:
-    return sampleParametric (shape, count, random, area);
+  default: // a shape onALattice does not know yet: the lattice, as for the others
+    return sampleLattice (shape, count, random);
   }
 }
 
