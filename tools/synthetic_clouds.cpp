@@ -189,15 +189,10 @@ public:
   void
   forEachNear (const Eigen::Vector3d& p, Visit visit) const
   {
-    const Eigen::Array<std::int64_t, 3, 1> c = cellOf (p);
-    for (int dx = -1; dx <= 1; ++dx)
-      for (int dy = -1; dy <= 1; ++dy)
-        for (int dz = -1; dz <= 1; ++dz) {
-          const auto found = cells_.find (keyOf (c + Eigen::Array<std::int64_t, 3, 1> (dx, dy, dz)));
-          if (found != cells_.end ())
-            for (const std::uint32_t j : found->second)
-              visit (j);
-        }
+    anyNear (p, [&visit] (std::uint32_t j) {
+      visit (j);
+      return false;
+    });
   }
 
   /** Whether `test` holds for a point in the 27 cells around p; stops at the first. */
