@@ -406,6 +406,7 @@ triangulateDisc (const Points3& points,
     result.holes = holes.size ();
   }
   result.triangles = std::move (kept);
+  result.normals = ordered.normals;
   result.outer_loop = patch.loop;
   clock.done ("triangulation", 1.0, std::to_string (result.triangles.size ()) + " triangles");
   result.success = true;

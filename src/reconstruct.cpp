@@ -552,6 +552,7 @@ Conductor::firstDiscRun ()
     return fail ("the disc reconstruction failed: " + disc.message);
   result_.report.holes = disc.holes;
   result_.triangles = std::move (disc.triangles);
+  result_.normals = std::move (disc.normals);
   finisher_.useNeighbours (&neighbourhoods_.neighbours); // to find holes the walk missed
   return true;
 }

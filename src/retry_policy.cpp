@@ -51,7 +51,7 @@ MeshFinisher::MeshFinisher (const Points3& points, const ReconstructionOptions& 
 double
 MeshFinisher::areaAgainstNormals (const Triangles& triangles, const Normals& normals) const
 {
-  if (!closed_ || normals.size () != points_.size ())
+  if (normals.size () != points_.size ())
     return 0.0;
   // A mesh turned as a whole faces against its normals everywhere; the check below
   // turns it, so it counts as facing along them.
@@ -88,8 +88,9 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
                            std::vector<char>* rewritten)
 {
   // Only where the listed pairs are complete and the mesh does not turn back over
-  // much of its area: such a cloud is rejected whatever the repair does, and its
-  // thousands of pairs would cost seconds.
+  // much of its area: such a mesh is refused whatever the repair does, and its
+  // thousands of pairs would cost seconds (an open surface's map through noise at
+  // the spacing folds so, before its points' projections are meshed).
   repair = {};
   if (mesh.self_intersecting_pairs == 0 ||
       mesh.intersecting_pairs.size () != mesh.self_intersecting_pairs || !mesh.isManifold () ||
@@ -97,7 +98,9 @@ MeshFinisher::repairFolds (Triangles& triangles, const Normals& normals, const M
     return true;
   clock_.restart ();
   FoldRepairOptions repair_options;
-  if (normals.size () == points_.size ()) {
+  // The maps from each vertex's own side serve parts thinner than the spacing on
+  // closed surfaces; an open surface's folds are re-meshed in planes.
+  if (closed_ && normals.size () == points_.size ()) {
     repair_options.neighbours = neighbours_;
     repair_options.normals = &normals;
   }

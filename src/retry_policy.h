@@ -89,8 +89,8 @@ public:
   std::string
   finish (Triangles& triangles, const Normals& normals, FinishedMesh& finished);
 
-  /** \brief Sphere topology: the share of the mesh's area facing against the
-    * oriented normals, the mesh turned as a whole counting as facing along them. */
+  /** \brief The share of the mesh's area facing against the oriented normals, the
+    * mesh turned as a whole counting as facing along them; 0 without normals. */
   double
   areaAgainstNormals (const Triangles& triangles, const Normals& normals) const;
 

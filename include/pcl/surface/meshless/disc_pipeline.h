@@ -89,6 +89,10 @@ struct DiscTriangulation : StageStatus
   std::vector<pcl::index_t> outer_loop;
   /** \brief Inner boundary loops (holes) kept open. */
   std::size_t holes = 0;
+  /** \brief The consistently oriented normals the rings turn around, one per
+    * point: where much of the mesh's area faces against them, the map folded over
+    * itself (noise at the spacing misled the boundary walk) and no local repair helps. */
+  std::vector<Eigen::Vector3f> normals;
 };
 
 /** \brief Floater-Reimers for an open surface with one outer boundary: graph,
