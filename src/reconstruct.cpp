@@ -708,7 +708,10 @@ Conductor::finishAndRetry ()
   RetryPolicy policy (points_, neighbourhoods_.neighbours, options_, finisher_, result_, clock_);
   FinishedMesh first;
   const std::string problem = finisher_.finish (result_.triangles, result_.normals, first);
+  const double against = first.area_against_normals;
   result_.adopt (std::move (first));
+  if (!closed_) // the closed topologies' verdict measures it with its other signs
+    result_.report.area_against_normals = against;
   if (!problem.empty ()) {
     fail (problem);
     return;

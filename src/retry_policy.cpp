@@ -259,6 +259,8 @@ MeshFinisher::finish (Triangles& triangles, const Normals& normals, FinishedMesh
       return problem;
   }
   checkFinal (triangles, finished);
+  if (!closed_)
+    finished.area_against_normals = areaAgainstNormals (triangles, normals);
   // Local folds the swaps could not open: re-meshed, then checked again (the pair
   // list must be complete for the repair to trust it).
   if (!repairFolds (triangles, normals, finished.mesh, "repair", LongerSwapRuns::Off, finished.repair))

@@ -39,6 +39,9 @@ struct FinishedMesh
   MeshReport mesh;
   /** \brief Disc topology: holes whose rims the boundary walk missed, cut open. */
   std::size_t holes_opened = 0;
+  /** \brief Disc topology: the share of the area facing against the oriented
+    * normals before the final repair (MeshFinisher::areaAgainstNormals). */
+  double area_against_normals = 0.0;
 };
 
 /** \brief The result so far of one reconstruction: its triangles, the oriented

@@ -135,9 +135,10 @@ struct ReconstructionReport
   FoldRepairResult raw_fold_repair;
   /** \brief Local folds the final check found, re-meshed away where possible. */
   FoldRepairResult fold_repair;
-  /** \brief Sphere topology: share of the mesh's area facing against the cloud's
-    * oriented normals (areaFacingAgainstNormals); above max_area_against_normals,
-    * with self-intersections, the cloud is rejected as not sphere-like. */
+  /** \brief Share of the mesh's area facing against the cloud's oriented normals
+    * (areaFacingAgainstNormals). Sphere topology: above max_area_against_normals,
+    * with self-intersections, the cloud is rejected as not sphere-like. Above it,
+    * no topology's fold repair is tried (the map folded over itself). */
   double area_against_normals = 0.0;
   /** \brief Sphere topology: intersecting pairs whose triangles lie more than
     * max_local_fold_hops edges apart (distantIntersectingPairs); any such pair
