@@ -166,60 +166,96 @@ findBoundaryLoops (const Points3& points,
   std::stable_sort (candidates.begin (), candidates.end (),
                     [&] (pcl::index_t a, pcl::index_t b) { return largest_gap[a] > largest_gap[b]; });
 
-  std::vector<char> on_loop (n, 0);
-  std::vector<int> seen_in_walk (n, -1);
-  std::vector<pcl::index_t> around, around_next;
-  Points2 local;
-  int walk_id = 0;
-  for (const pcl::index_t start : candidates) {
-    if (on_loop[start])
-      continue;
-    ++walk_id;
-    walkable (start, around);
-    if (around.size () < 2)
-      continue;
-    // First step: the member at the end of the largest angular gap.
-    localCoordinates (points, start, around.data (), around.data () + around.size (),
-                      normals[start].cast<double> (), LocalPlane::ProjectOntoFit, local);
-    std::size_t gap_end = 0;
-    double widest = -1.0;
-    for (std::size_t j = 0; j < around.size (); ++j) {
-      const Eigen::Vector2d& a = local[j];
-      const Eigen::Vector2d& b = local[(j + 1) % around.size ()];
-      double angle = std::atan2 (a.x () * b.y () - a.y () * b.x (), a.dot (b));
-      if (angle <= 0.0)
-        angle += two_pi;
-      if (angle > widest) {
-        widest = angle;
-        gap_end = (j + 1) % around.size ();
+  // Walks stop where the outline passes a point twice; only where that leaves no
+  // loop at all do they walk again and cut such notches off (a loop found the
+  // first way is never traded for one found by cutting).
+  for (const bool cut_notches : {false, true}) {
+    if (cut_notches && !result.loops.empty ())
+      break;
+    std::vector<char> on_loop (n, 0);
+    std::vector<int> seen_in_walk (n, -1);
+    std::vector<pcl::index_t> around, around_next;
+    Points2 local;
+    int walk_id = 0;
+    for (const pcl::index_t start : candidates) {
+      if (on_loop[start])
+        continue;
+      ++walk_id;
+      walkable (start, around);
+      if (around.size () < 2)
+        continue;
+      // First step: the member at the end of the largest angular gap.
+      localCoordinates (points, start, around.data (), around.data () + around.size (),
+                        normals[start].cast<double> (), LocalPlane::ProjectOntoFit, local);
+      std::size_t gap_end = 0;
+      double widest = -1.0;
+      for (std::size_t j = 0; j < around.size (); ++j) {
+        const Eigen::Vector2d& a = local[j];
+        const Eigen::Vector2d& b = local[(j + 1) % around.size ()];
+        double angle = std::atan2 (a.x () * b.y () - a.y () * b.x (), a.dot (b));
+        if (angle <= 0.0)
+          angle += two_pi;
+        if (angle > widest) {
+          widest = angle;
+          gap_end = (j + 1) % around.size ();
+        }
       }
-    }
-    std::vector<pcl::index_t> loop = {start};
-    seen_in_walk[start] = walk_id;
-    pcl::index_t previous = start, current = around[gap_end];
-    bool closed = false;
-    while (loop.size () <= n) {
-      if (current == start) {
-        closed = true;
-        break;
+      std::vector<pcl::index_t> loop = {start};
+      seen_in_walk[start] = walk_id;
+      pcl::index_t previous = start, current = around[gap_end];
+      bool closed = false;
+      // Cutting off notches shortens the loop: the steps are bounded too.
+      for (std::size_t steps = 0; loop.size () <= n && steps <= 2 * n; ++steps) {
+        if (current == start) {
+          closed = true;
+          break;
+        }
+        if (on_loop[current])
+          break; // another loop
+        if (seen_in_walk[current] == walk_id) {
+          if (!cut_notches)
+            break; // a figure of eight: not a simple boundary
+          // The outline passes this point twice (a notch pinched to one point): of
+          // the two loops through it, the longer one is the boundary and the
+          // shorter one's points fall inside, if it is too short to be a loop.
+          const auto again = std::find (loop.begin (), loop.end (), current);
+          const auto index = static_cast<std::size_t> (again - loop.begin ());
+          if (std::min (loop.size () - index, index + 1) >= min_loop)
+            break;
+          if (loop.size () - index > index + 1) {
+            loop.erase (loop.begin (), again);
+            closed = true;
+            break;
+          }
+          for (auto k = index + 1; k < loop.size (); ++k)
+            seen_in_walk[loop[k]] = -1;
+          loop.resize (index + 1);
+          // On from this point, turning from the last point walked into it.
+          walkable (current, around_next);
+          const auto it = std::find (around_next.begin (), around_next.end (), previous);
+          if (it == around_next.end () || around_next.size () < 2)
+            break;
+          previous = current;
+          current = around_next[(static_cast<std::size_t> (it - around_next.begin ()) + 1) %
+                                around_next.size ()];
+          continue;
+        }
+        seen_in_walk[current] = walk_id;
+        loop.push_back (current);
+        walkable (current, around_next);
+        const auto it = std::find (around_next.begin (), around_next.end (), previous);
+        if (it == around_next.end () || around_next.size () < 2)
+          break;
+        const std::size_t next = (static_cast<std::size_t> (it - around_next.begin ()) + 1) % around_next.size ();
+        previous = current;
+        current = around_next[next];
       }
-      if (seen_in_walk[current] == walk_id || on_loop[current])
-        break; // a figure of eight or another loop: not a simple boundary
-      seen_in_walk[current] = walk_id;
-      loop.push_back (current);
-      walkable (current, around_next);
-      const auto it = std::find (around_next.begin (), around_next.end (), previous);
-      if (it == around_next.end () || around_next.size () < 2)
-        break;
-      const std::size_t next = (static_cast<std::size_t> (it - around_next.begin ()) + 1) % around_next.size ();
-      previous = current;
-      current = around_next[next];
+      if (!closed || loop.size () < min_loop)
+        continue;
+      for (auto v : loop)
+        on_loop[v] = 1;
+      result.loops.push_back (withSteppedOverPoints (points, rings, loop, on_loop));
     }
-    if (!closed || loop.size () < min_loop)
-      continue;
-    for (auto v : loop)
-      on_loop[v] = 1;
-    result.loops.push_back (withSteppedOverPoints (points, rings, loop, on_loop));
   }
   auto length = [&] (const std::vector<pcl::index_t>& loop) {
     double sum = 0.0;
