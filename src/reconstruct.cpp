@@ -654,6 +654,19 @@ Conductor::finalVerdict ()
       report.stats.genus = -1; // not the genus 0 of the polyhedra it came from
     return fail (cutMessage ());
   }
+  // An open surface's map folded over itself is no mesh to return, even where
+  // intersections are allowed: the walk missed the outline.
+  if (!closed_ && report.mesh.self_intersecting_pairs > 0 &&
+      report.area_against_normals > max_area_against_normals) {
+    char share[32];
+    std::snprintf (share, sizeof share, "%.0f%%", 100.0 * report.area_against_normals);
+    return fail (std::string ("the map folds over itself: ") + share +
+                 " of the mesh's area faces against the points' normals and " +
+                 std::to_string (report.mesh.self_intersecting_pairs) +
+                 " pair(s) of triangles intersect (the boundary walk missed the outline, "
+                 "as noise along it makes it do; setPointSmoothing (PointSmoothing::Always) "
+                 "meshes the points' projections, or more neighbours may find it)");
+  }
   // Runs of swaps too costly for every attempt's repair, on the result kept.
   if (report.mesh.self_intersecting_pairs > 0 &&
       !finisher_.repairWithLongerRuns (result_.triangles, result_.normals, report))
@@ -710,7 +723,7 @@ Conductor::finishAndRetry ()
   const std::string problem = finisher_.finish (result_.triangles, result_.normals, first);
   const double against = first.area_against_normals;
   result_.adopt (std::move (first));
-  if (!closed_) // the closed topologies' verdict measures it with its other signs
+  if (!closed_) // closed topologies: the verdict measures it on the mesh kept
     result_.report.area_against_normals = against;
   if (!problem.empty ()) {
     fail (problem);

@@ -45,7 +45,7 @@ struct FinishedMesh
 };
 
 /** \brief The result so far of one reconstruction: its triangles, the oriented
-  * point normals they came with (sphere topology) and the report. */
+  * point normals they came with and the report. */
 struct CurrentResult
 {
   Triangles triangles;

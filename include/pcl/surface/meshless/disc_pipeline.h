@@ -90,8 +90,7 @@ struct DiscTriangulation : StageStatus
   /** \brief Inner boundary loops (holes) kept open. */
   std::size_t holes = 0;
   /** \brief The consistently oriented normals the rings turn around, one per
-    * point: where much of the mesh's area faces against them, the map folded over
-    * itself (noise at the spacing misled the boundary walk) and no local repair helps. */
+    * point; the triangles are oriented with them. */
   std::vector<Eigen::Vector3f> normals;
 };
 

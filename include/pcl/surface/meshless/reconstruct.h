@@ -133,12 +133,15 @@ struct ReconstructionReport
     * optimization (sphere topology with the optimization and the intersection check
     * on, when the raw triangulation intersects itself). */
   FoldRepairResult raw_fold_repair;
-  /** \brief Local folds the final check found, re-meshed away where possible. */
+  /** \brief Local folds the final check found, re-meshed away where possible
+    * (where the repair was tried; see area_against_normals). */
   FoldRepairResult fold_repair;
-  /** \brief Share of the mesh's area facing against the cloud's oriented normals
-    * (areaFacingAgainstNormals). Sphere topology: above max_area_against_normals,
-    * with self-intersections, the cloud is rejected as not sphere-like. Above it,
-    * no topology's fold repair is tried (the map folded over itself). */
+  /** \brief Share of the mesh's area facing against the cloud's oriented normals,
+    * the mesh turned as a whole counting as facing along them
+    * (areaFacingAgainstNormals). Closed topologies: on the mesh kept; above
+    * max_area_against_normals, with self-intersections, the cloud is rejected as not
+    * sphere-like. Disc topology: before the final repair; above it the repair is not
+    * tried and a self-intersecting map is refused (it folded over itself). */
   double area_against_normals = 0.0;
   /** \brief Sphere topology: intersecting pairs whose triangles lie more than
     * max_local_fold_hops edges apart (distantIntersectingPairs); any such pair
@@ -164,7 +167,8 @@ struct ReconstructionReport
 
 /** \brief Share of area facing against the cloud's normals above which a
   * self-intersecting closed result means the cloud is not sphere-like (genus-0
-  * clouds stay far below it; a handle or a boundary turns a large part back). */
+  * clouds stay far below it; a handle or a boundary turns a large part back), and
+  * an open surface's map has folded over itself. Above it no fold repair is tried. */
 constexpr double max_area_against_normals = 0.08;
 /** \brief Edge distance up to which two intersecting triangles count as a local fold
   * rather than the surface passing through itself. */
