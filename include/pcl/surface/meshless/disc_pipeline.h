@@ -28,7 +28,10 @@ struct BoundaryLoops : StageStatus
   * the loop is walked along the mutual ring graph with the outer-face rule: having
   * arrived at w from v, go on to the first neighbour of w counter-clockwise after
   * v. The walk follows the boundary with the surface on its left, also through
-  * boundary points whose gap is smaller (concave corners).
+  * boundary points whose gap is smaller (concave corners). A walk that meets a
+  * point twice stops; only where no walk closes a loop do they run again and cut
+  * off the shorter of the two loops through such a point (a notch pinched by
+  * noise), if it has fewer than `min_loop` points.
   * \param[in] normals the consistently oriented normals the rings turn around
   * \param[in] rings rings counter-clockwise around `normals`
   * \param[in] mutual the mutual ring graph
