@@ -136,6 +136,171 @@ sampleSpacings (const Points3& points, const CsrGraph& neighbourhoods)
   return spacing;
 }
 
+/** Walks boundary loops along the mutual ring graph with the outer-face rule
+  * (see findBoundaryLoops), and keeps which points the loops found so far hold. */
+class BoundaryWalker
+{
+public:
+  BoundaryWalker (const Points3& points,
+                  const std::vector<Eigen::Vector3f>& normals,
+                  const CsrGraph& rings,
+                  const CsrGraph& mutual,
+                  std::size_t min_loop,
+                  bool cut_notches)
+  : points_ (points)
+  , normals_ (normals)
+  , rings_ (rings)
+  , mutual_ (mutual)
+  , min_loop_ (min_loop)
+  , cut_notches_ (cut_notches)
+  , on_loop_ (points.size (), 0)
+  , seen_in_walk_ (points.size (), -1)
+  {}
+
+  bool
+  onLoop (pcl::index_t v) const
+  {
+    return on_loop_[v] != 0;
+  }
+
+  /** The loop walked from `start` (empty if the walk does not close one of at
+    * least min_loop points), its points then taken, with the points it steps over. */
+  std::vector<pcl::index_t>
+  loopFrom (pcl::index_t start)
+  {
+    std::vector<pcl::index_t> loop;
+    if (!walk (start, loop) || loop.size () < min_loop_)
+      return {};
+    for (auto v : loop)
+      on_loop_[v] = 1;
+    return withSteppedOverPoints (points_, rings_, loop, on_loop_);
+  }
+
+private:
+  /** v's walkable neighbours: its ring members that are mutual, in ring
+    * (counter-clockwise) order. */
+  void
+  walkable (pcl::index_t v, std::vector<pcl::index_t>& out) const
+  {
+    out.clear ();
+    for (const pcl::index_t* w = rings_.begin (v); w != rings_.end (v); ++w)
+      if (std::binary_search (mutual_.begin (v), mutual_.end (v), *w))
+        out.push_back (*w);
+  }
+
+  /** The neighbour of `current` that follows `previous` counter-clockwise, or -1. */
+  pcl::index_t
+  after (pcl::index_t current, pcl::index_t previous)
+  {
+    walkable (current, around_);
+    const auto it = std::find (around_.begin (), around_.end (), previous);
+    if (it == around_.end () || around_.size () < 2)
+      return -1;
+    return around_[(static_cast<std::size_t> (it - around_.begin ()) + 1) % around_.size ()];
+  }
+
+  /** The ring member of `start` at the end of its largest angular gap, or -1. */
+  pcl::index_t
+  firstStep (pcl::index_t start)
+  {
+    walkable (start, around_);
+    if (around_.size () < 2)
+      return -1;
+    localCoordinates (points_, start, around_.data (), around_.data () + around_.size (),
+                      normals_[start].cast<double> (), LocalPlane::ProjectOntoFit, local_);
+    std::size_t gap_end = 0;
+    double widest = -1.0;
+    for (std::size_t j = 0; j < around_.size (); ++j) {
+      const Eigen::Vector2d& a = local_[j];
+      const Eigen::Vector2d& b = local_[(j + 1) % around_.size ()];
+      double angle = std::atan2 (a.x () * b.y () - a.y () * b.x (), a.dot (b));
+      if (angle <= 0.0)
+        angle += two_pi;
+      if (angle > widest) {
+        widest = angle;
+        gap_end = (j + 1) % around_.size ();
+      }
+    }
+    return around_[gap_end];
+  }
+
+  /** Walks from `start` into `loop`. \return whether it closed. */
+  bool
+  walk (pcl::index_t start, std::vector<pcl::index_t>& loop)
+  {
+    ++walk_id_;
+    pcl::index_t previous = start, current = firstStep (start);
+    if (current < 0)
+      return false;
+    loop = {start};
+    seen_in_walk_[start] = walk_id_;
+    const std::size_t n = points_.size ();
+    // Cutting off notches shortens the loop: the steps are bounded too.
+    for (std::size_t steps = 0; loop.size () <= n && steps <= 2 * n; ++steps) {
+      if (current == start)
+        return true;
+      if (on_loop_[current])
+        return false; // another loop
+      if (seen_in_walk_[current] == walk_id_) {
+        if (!cut_notches_)
+          return false; // a figure of eight: not a simple boundary
+        switch (cutNotch (current, loop)) {
+        case Notch::Kept:
+          return false;
+        case Notch::LoopClosed:
+          return true;
+        case Notch::Cut:
+          break; // on from current, turning from the last point walked into it
+        }
+      }
+      else {
+        seen_in_walk_[current] = walk_id_;
+        loop.push_back (current);
+      }
+      const pcl::index_t next = after (current, previous);
+      if (next < 0)
+        return false;
+      previous = current;
+      current = next;
+    }
+    return false;
+  }
+
+  enum class Notch { Kept, LoopClosed, Cut };
+
+  /** The walk meets `current` again (a notch pinched to one point): of the two
+    * loops through it, the longer one is the boundary and the shorter one's points
+    * fall inside, if it is too short to be a loop. */
+  Notch
+  cutNotch (pcl::index_t current, std::vector<pcl::index_t>& loop)
+  {
+    const auto again = std::find (loop.begin (), loop.end (), current);
+    const auto index = static_cast<std::size_t> (again - loop.begin ());
+    if (std::min (loop.size () - index, index + 1) >= min_loop_)
+      return Notch::Kept;
+    if (loop.size () - index > index + 1) {
+      loop.erase (loop.begin (), again);
+      return Notch::LoopClosed;
+    }
+    for (auto k = index + 1; k < loop.size (); ++k)
+      seen_in_walk_[loop[k]] = -1;
+    loop.resize (index + 1);
+    return Notch::Cut;
+  }
+
+  const Points3& points_;
+  const std::vector<Eigen::Vector3f>& normals_;
+  const CsrGraph& rings_;
+  const CsrGraph& mutual_;
+  const std::size_t min_loop_;
+  const bool cut_notches_;
+  std::vector<char> on_loop_;
+  std::vector<int> seen_in_walk_;
+  int walk_id_ = 0;
+  std::vector<pcl::index_t> around_;
+  Points2 local_;
+};
+
 } // namespace
 
 BoundaryLoops
@@ -150,15 +315,6 @@ findBoundaryLoops (const Points3& points,
 {
   BoundaryLoops result;
   const std::size_t n = points.size ();
-  // Each point's walkable neighbours: its ring members that are mutual, in ring
-  // (counter-clockwise) order.
-  auto walkable = [&] (pcl::index_t v, std::vector<pcl::index_t>& out) {
-    out.clear ();
-    for (const pcl::index_t* w = rings.begin (v); w != rings.end (v); ++w)
-      if (std::binary_search (mutual.begin (v), mutual.end (v), *w))
-        out.push_back (*w);
-  };
-
   std::vector<pcl::index_t> candidates;
   for (std::size_t v = 0; v < n; ++v)
     if (largest_gap[v] >= min_gap)
@@ -172,89 +328,13 @@ findBoundaryLoops (const Points3& points,
   for (const bool cut_notches : {false, true}) {
     if (cut_notches && !result.loops.empty ())
       break;
-    std::vector<char> on_loop (n, 0);
-    std::vector<int> seen_in_walk (n, -1);
-    std::vector<pcl::index_t> around, around_next;
-    Points2 local;
-    int walk_id = 0;
+    BoundaryWalker walker (points, normals, rings, mutual, min_loop, cut_notches);
     for (const pcl::index_t start : candidates) {
-      if (on_loop[start])
+      if (walker.onLoop (start))
         continue;
-      ++walk_id;
-      walkable (start, around);
-      if (around.size () < 2)
-        continue;
-      // First step: the member at the end of the largest angular gap.
-      localCoordinates (points, start, around.data (), around.data () + around.size (),
-                        normals[start].cast<double> (), LocalPlane::ProjectOntoFit, local);
-      std::size_t gap_end = 0;
-      double widest = -1.0;
-      for (std::size_t j = 0; j < around.size (); ++j) {
-        const Eigen::Vector2d& a = local[j];
-        const Eigen::Vector2d& b = local[(j + 1) % around.size ()];
-        double angle = std::atan2 (a.x () * b.y () - a.y () * b.x (), a.dot (b));
-        if (angle <= 0.0)
-          angle += two_pi;
-        if (angle > widest) {
-          widest = angle;
-          gap_end = (j + 1) % around.size ();
-        }
-      }
-      std::vector<pcl::index_t> loop = {start};
-      seen_in_walk[start] = walk_id;
-      pcl::index_t previous = start, current = around[gap_end];
-      bool closed = false;
-      // Cutting off notches shortens the loop: the steps are bounded too.
-      for (std::size_t steps = 0; loop.size () <= n && steps <= 2 * n; ++steps) {
-        if (current == start) {
-          closed = true;
-          break;
-        }
-        if (on_loop[current])
-          break; // another loop
-        if (seen_in_walk[current] == walk_id) {
-          if (!cut_notches)
-            break; // a figure of eight: not a simple boundary
-          // The outline passes this point twice (a notch pinched to one point): of
-          // the two loops through it, the longer one is the boundary and the
-          // shorter one's points fall inside, if it is too short to be a loop.
-          const auto again = std::find (loop.begin (), loop.end (), current);
-          const auto index = static_cast<std::size_t> (again - loop.begin ());
-          if (std::min (loop.size () - index, index + 1) >= min_loop)
-            break;
-          if (loop.size () - index > index + 1) {
-            loop.erase (loop.begin (), again);
-            closed = true;
-            break;
-          }
-          for (auto k = index + 1; k < loop.size (); ++k)
-            seen_in_walk[loop[k]] = -1;
-          loop.resize (index + 1);
-          // On from this point, turning from the last point walked into it.
-          walkable (current, around_next);
-          const auto it = std::find (around_next.begin (), around_next.end (), previous);
-          if (it == around_next.end () || around_next.size () < 2)
-            break;
-          previous = current;
-          current = around_next[(static_cast<std::size_t> (it - around_next.begin ()) + 1) %
-                                around_next.size ()];
-          continue;
-        }
-        seen_in_walk[current] = walk_id;
-        loop.push_back (current);
-        walkable (current, around_next);
-        const auto it = std::find (around_next.begin (), around_next.end (), previous);
-        if (it == around_next.end () || around_next.size () < 2)
-          break;
-        const std::size_t next = (static_cast<std::size_t> (it - around_next.begin ()) + 1) % around_next.size ();
-        previous = current;
-        current = around_next[next];
-      }
-      if (!closed || loop.size () < min_loop)
-        continue;
-      for (auto v : loop)
-        on_loop[v] = 1;
-      result.loops.push_back (withSteppedOverPoints (points, rings, loop, on_loop));
+      std::vector<pcl::index_t> loop = walker.loopFrom (start);
+      if (!loop.empty ())
+        result.loops.push_back (std::move (loop));
     }
   }
   auto length = [&] (const std::vector<pcl::index_t>& loop) {

@@ -139,6 +139,18 @@ expectDiscWithHoles (Meshless& reconstruction, const pcl::PointCloud<pcl::PointX
   EXPECT_LT (report.area_against_normals, pcl::meshless::max_area_against_normals);
 }
 
+/** The class in disc mode on `cloud`, through the points as given (no smoothing). */
+void
+reconstructThroughThePoints (Meshless& reconstruction,
+                             const pcl::PointCloud<pcl::PointXYZ>::Ptr& cloud,
+                             std::vector<pcl::Vertices>& polygons)
+{
+  reconstruction.setTopology (Meshless::Topology::Disc);
+  reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Off);
+  reconstruction.setInputCloud (cloud);
+  reconstruction.reconstruct (polygons);
+}
+
 /** The class in disc mode on `cloud`: refused, no triangles, the message naming
   * `cause`. */
 void
@@ -302,11 +314,8 @@ TEST (DiscPipeline, OpenSurfacesWithNoiseAtThePointSpacingCloseWhenSmoothed)
                     std::to_string (seed));
       const auto cloud = toCloud (sampleShape (shape, {5000, seed, 0.005}));
       Meshless reconstruction;
-      reconstruction.setTopology (Meshless::Topology::Disc);
-      reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Off);
-      reconstruction.setInputCloud (cloud);
       std::vector<pcl::Vertices> polygons;
-      reconstruction.reconstruct (polygons);
+      reconstructThroughThePoints (reconstruction, cloud, polygons);
       const bool points_succeed = reconstruction.getReport ().success;
       EXPECT_FALSE (reconstruction.getReport ().smoothed);
       through_the_points += points_succeed;
@@ -357,11 +366,8 @@ TEST (DiscPipeline, AMeshFacingAgainstItsNormalsIsNotRepairedBeforeTheSmoothedRu
     options.holes = 1;
     const auto cloud = toCloud (sampleShape (SyntheticShape::Disc, options));
     Meshless reconstruction;
-    reconstruction.setTopology (Meshless::Topology::Disc);
-    reconstruction.setPointSmoothing (pcl::meshless::PointSmoothing::Off);
-    reconstruction.setInputCloud (cloud);
     std::vector<pcl::Vertices> polygons;
-    reconstruction.reconstruct (polygons);
+    reconstructThroughThePoints (reconstruction, cloud, polygons);
     const auto& report = reconstruction.getReport ();
     const bool folds = report.area_against_normals > pcl::meshless::max_area_against_normals;
     if (folds) {
