@@ -21,6 +21,7 @@
 #include <cmath>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 namespace pcl {
 namespace meshless {
@@ -311,32 +312,43 @@ findBoundaryLoops (const Points3& points,
                    const std::vector<float>& largest_gap,
                    double min_gap,
                    std::size_t min_loop,
-                   const std::vector<double>& spacing)
+                   const std::vector<double>& spacing,
+                   double min_rim_gap)
 {
   BoundaryLoops result;
   const std::size_t n = points.size ();
+  const double least_gap = std::min (min_gap, min_rim_gap);
   std::vector<pcl::index_t> candidates;
   for (std::size_t v = 0; v < n; ++v)
-    if (largest_gap[v] >= min_gap)
+    if (largest_gap[v] >= least_gap)
       candidates.push_back (static_cast<pcl::index_t> (v));
   std::stable_sort (candidates.begin (), candidates.end (),
                     [&] (pcl::index_t a, pcl::index_t b) { return largest_gap[a] > largest_gap[b]; });
+  const auto rims = std::find_if (candidates.begin (), candidates.end (),
+                                  [&] (pcl::index_t v) { return largest_gap[v] < min_gap; });
 
+  std::optional<BoundaryWalker> walker;
+  auto walkFrom = [&] (pcl::index_t start) {
+    if (walker->onLoop (start))
+      return;
+    std::vector<pcl::index_t> loop = walker->loopFrom (start);
+    if (!loop.empty ())
+      result.loops.push_back (std::move (loop));
+  };
   // Walks stop where the outline passes a point twice; only where that leaves no
   // loop at all do they walk again and cut such notches off (a loop found the
   // first way is never traded for one found by cutting).
   for (const bool cut_notches : {false, true}) {
     if (cut_notches && !result.loops.empty ())
       break;
-    BoundaryWalker walker (points, normals, rings, mutual, min_loop, cut_notches);
-    for (const pcl::index_t start : candidates) {
-      if (walker.onLoop (start))
-        continue;
-      std::vector<pcl::index_t> loop = walker.loopFrom (start);
-      if (!loop.empty ())
-        result.loops.push_back (std::move (loop));
-    }
+    walker.emplace (points, normals, rings, mutual, min_loop, cut_notches);
+    std::for_each (candidates.begin (), rims, walkFrom);
   }
+  // The rim of a round hole a few spacings wide is concave all round: none of its
+  // gaps reaches min_gap. Its walks start once the outline is known, so that the
+  // smaller gaps walked cannot stand in for a missed outline.
+  if (!result.loops.empty ())
+    std::for_each (rims, candidates.end (), walkFrom);
   auto length = [&] (const std::vector<pcl::index_t>& loop) {
     double sum = 0.0;
     for (std::size_t k = 0; k < loop.size (); ++k)

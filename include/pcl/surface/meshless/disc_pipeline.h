@@ -31,7 +31,9 @@ struct BoundaryLoops : StageStatus
   * boundary points whose gap is smaller (concave corners). A walk that meets a
   * point twice stops; only where no walk closes a loop do they run again and cut
   * off the shorter of the two loops through such a point (a notch pinched by
-  * noise), if it has fewer than `min_loop` points.
+  * noise), if it has fewer than `min_loop` points. Once a loop is found, walks
+  * also start from points whose gap is at least `min_rim_gap`: a round hole a few
+  * spacings wide has a concave rim, on which every gap stays below `min_gap`.
   * \param[in] normals the consistently oriented normals the rings turn around
   * \param[in] rings rings counter-clockwise around `normals`
   * \param[in] mutual the mutual ring graph
@@ -42,6 +44,8 @@ struct BoundaryLoops : StageStatus
   *            is a hole only if its points lie well away from its centroid in loop
   *            edges and, if given, in their spacing too (where a sample comes in
   *            small dense clusters, a gap's own loop edges understate it)
+  * \param[in] min_rim_gap the least gap (radians) of a point that starts a walk
+  *            after the outline is found (default 2 pi / 3)
   */
 BoundaryLoops
 findBoundaryLoops (const Points3& points,
@@ -51,7 +55,8 @@ findBoundaryLoops (const Points3& points,
                    const std::vector<float>& largest_gap,
                    double min_gap = 3.14159265358979323846,
                    std::size_t min_loop = 8,
-                   const std::vector<double>& spacing = {});
+                   const std::vector<double>& spacing = {},
+                   double min_rim_gap = 2.0 * 3.14159265358979323846 / 3.0);
 
 /** \brief An edge longer than this many times the spacing of its end points (a
   * point's mean distance to its six nearest, or past its cluster where those are
