@@ -97,31 +97,55 @@ withSteppedOverPoints (const Points3& points,
   return result;
 }
 
-/** \brief Whether a loop encloses a disc wider than the sample's own gaps: its
-  * points lie at least `radius` loop edges (the median) from its centroid, and,
-  * if `spacing` is given, at least `radius` times its points' median spacing. */
-bool
-wideEnoughForAHole (const Points3& points, const std::vector<pcl::index_t>& loop, double radius,
-                    const std::vector<double>& spacing = {})
+/** \brief The median length of a closed loop's edges. */
+double
+medianEdge (const Points3& points, const std::vector<pcl::index_t>& loop)
+{
+  std::vector<double> edges (loop.size ());
+  for (std::size_t k = 0; k < loop.size (); ++k)
+    edges[k] = (points[loop[(k + 1) % loop.size ()]] - points[loop[k]]).norm ();
+  return median (edges);
+}
+
+/** \brief The median of `spacing` over a loop's points. */
+double
+medianSpacing (const std::vector<double>& spacing, const std::vector<pcl::index_t>& loop)
+{
+  std::vector<double> values (loop.size ());
+  for (std::size_t k = 0; k < loop.size (); ++k)
+    values[k] = spacing[loop[k]];
+  return median (values);
+}
+
+/** \brief The least distance of a loop's points from their centroid. */
+double
+centroidClearance (const Points3& points, const std::vector<pcl::index_t>& loop)
 {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
   for (const auto v : loop)
     centroid += points[v];
   centroid /= static_cast<double> (loop.size ());
   double nearest = std::numeric_limits<double>::max ();
-  std::vector<double> edges (loop.size ());
+  for (const auto v : loop)
+    nearest = std::min (nearest, (points[v] - centroid).norm ());
+  return nearest;
+}
+
+/** \brief Twice a loop's area over its length: a circle's radius, and for a
+  * ragged or off-centre hole still about its radius (the area is the vector
+  * area's, the largest of the loop's projections). */
+double
+halfWidth (const Points3& points, const std::vector<pcl::index_t>& loop)
+{
+  Eigen::Vector3d vector_area = Eigen::Vector3d::Zero ();
+  double length = 0.0;
   for (std::size_t k = 0; k < loop.size (); ++k) {
-    nearest = std::min (nearest, (points[loop[k]] - centroid).norm ());
-    edges[k] = (points[loop[(k + 1) % loop.size ()]] - points[loop[k]]).norm ();
+    const Eigen::Vector3d& a = points[loop[k]];
+    const Eigen::Vector3d& b = points[loop[(k + 1) % loop.size ()]];
+    vector_area += 0.5 * (a - points[loop[0]]).cross (b - points[loop[0]]);
+    length += (b - a).norm ();
   }
-  if (nearest < radius * median (edges))
-    return false;
-  if (spacing.size () != points.size ())
-    return true;
-  std::vector<double> loop_spacings (loop.size ());
-  for (std::size_t k = 0; k < loop.size (); ++k)
-    loop_spacings[k] = spacing[loop[k]];
-  return nearest >= radius * median (loop_spacings);
+  return length > 0.0 ? 2.0 * vector_area.norm () / length : 0.0;
 }
 
 /** \brief sampleSpacing of every point over its row of `neighbourhoods`. */
@@ -361,9 +385,10 @@ findBoundaryLoops (const Points3& points,
   // gap of the sample: as the outer loop it would fold the whole map. An outer loop
   // is a gap's if it is neither wide nor long (a boundary is some square root of
   // the point count long, a gap a few points).
-  const double min_outline_width = 2.0; // loop edges, as for holes but surer
+  const double min_outline_width = 2.0; // loop edges
   if (!result.loops.empty () &&
-      !wideEnoughForAHole (points, result.loops.front (), min_outline_width) &&
+      centroidClearance (points, result.loops.front ()) <
+          min_outline_width * medianEdge (points, result.loops.front ()) &&
       static_cast<double> (result.loops.front ().size ()) < 0.5 * std::sqrt (static_cast<double> (n))) {
     result.message = "the outline is too ragged to follow: the longest loop found (" +
                      std::to_string (result.loops.front ().size ()) +
@@ -374,14 +399,17 @@ findBoundaryLoops (const Points3& points,
   }
   // An inner loop is a hole only if it is wider than the gaps of the sample itself:
   // jittered or noisy samples leave gaps a few points around, as wide as a scan's
-  // small dropouts. Narrower loops are closed over (measured: doc/design.md).
-  const double min_hole_radius = 1.5;
+  // small dropouts. Narrower loops are closed over (measured: doc/design.md). The
+  // points' spacing is the yardstick where given; loop edges are coarser (the walk
+  // steps over rim points, and dense clusters shorten a gap's edges).
+  const bool spaced = spacing.size () == n;
+  const double min_hole_half_width = spaced ? 2.05 : 1.5;
+  auto narrow = [&] (const std::vector<pcl::index_t>& loop) {
+    const double yardstick = spaced ? medianSpacing (spacing, loop) : medianEdge (points, loop);
+    return halfWidth (points, loop) < min_hole_half_width * yardstick;
+  };
   if (result.loops.size () > 1)
-    result.loops.erase (std::remove_if (result.loops.begin () + 1, result.loops.end (),
-                                        [&] (const auto& loop) {
-                                          return !wideEnoughForAHole (points, loop,
-                                                                      min_hole_radius, spacing);
-                                        }),
+    result.loops.erase (std::remove_if (result.loops.begin () + 1, result.loops.end (), narrow),
                         result.loops.end ());
   result.success = !result.loops.empty ();
   if (!result.success)

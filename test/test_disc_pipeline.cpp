@@ -251,8 +251,8 @@ TEST (DiscPipeline, MissedHolesAreCutOpen)
 
 TEST (DiscPipeline, HolesAFewSpacingsAcrossAreKeptWhereTheWalkMissesTheirRims)
 {
-  // Holes about eight spacings across (2,000 points) with noise of a quarter
-  // spacing: where the walk misses a rim, the triangles spanning the hole are cut
+  // Holes about eight spacings across (2,000 points) with noise of 0.5% of the
+  // diagonal: where the walk misses a rim, the triangles spanning the hole are cut
   // out instead, and every member has the holes it was given.
   std::size_t opened = 0;
   for (const SyntheticShape shape : {SyntheticShape::Disc, SyntheticShape::HeightField})
@@ -260,7 +260,7 @@ TEST (DiscPipeline, HolesAFewSpacingsAcrossAreKeptWhereTheWalkMissesTheirRims)
       for (const std::uint32_t seed : {1u, 2u}) {
         SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " holes " +
                       std::to_string (holes) + " seed " + std::to_string (seed));
-        pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.003};
+        pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.005};
         options.holes = holes;
         Meshless reconstruction;
         expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), holes);
@@ -333,6 +333,32 @@ TEST (DiscPipeline, LatticesAndHolesGiveTheirLoops)
   Meshless reconstruction;
   expectDiscWithHoles (reconstruction, toCloud (grid), 0);
   EXPECT_EQ (reconstruction.getReport ().mesh.num_triangles, 2u * 49u * 39u);
+}
+
+TEST (DiscPipeline, SmallHolesInNoisyLatticesAndUnevenSamplesAreKept)
+{
+  // Holes about eight spacings across (2,000 points) on noisy lattices, and in the
+  // sparse parts of samples ten times denser on one side than the other: the
+  // walked rim steps over rim points or runs through sparse ones, so its own edges
+  // are long, yet every hole is kept and no gap of the sample is taken for one.
+  for (const SyntheticShape shape : {SyntheticShape::Disc, SyntheticShape::HeightField})
+    for (const std::uint32_t seed : {1u, 2u}) {
+      for (const double noise : {0.003, 0.005}) {
+        SCOPED_TRACE ("lattice shape " + std::to_string (static_cast<int> (shape)) + " noise " +
+                      std::to_string (noise) + " seed " + std::to_string (seed));
+        pcl::meshless::SyntheticCloudOptions options{2000, seed, noise};
+        options.lattice = true;
+        options.holes = 5;
+        Meshless reconstruction;
+        expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), 5);
+      }
+      SCOPED_TRACE ("uneven shape " + std::to_string (static_cast<int> (shape)) + " seed " +
+                    std::to_string (seed));
+      pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0, 10.0};
+      options.holes = 1;
+      Meshless reconstruction;
+      expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), 1);
+    }
 }
 
 TEST (DiscPipeline, OpenSurfacesWithNoiseAtThePointSpacingCloseWhenSmoothed)

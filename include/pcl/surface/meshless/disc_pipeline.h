@@ -41,9 +41,11 @@ struct BoundaryLoops : StageStatus
   * \param[in] min_loop loops with fewer points are noise and dropped (default 8)
   * \param[in] spacing optional, a distance per point (ignored unless there is one
   *            per point), the typical gap of the sample around it: an inner loop
-  *            is a hole only if its points lie well away from its centroid in loop
-  *            edges and, if given, in their spacing too (where a sample comes in
-  *            small dense clusters, a gap's own loop edges understate it)
+  *            is a hole only if its half-width (twice its area over its length)
+  *            is at least 2.05 times its points' median spacing; without spacings,
+  *            1.5 times its median edge, a coarser yardstick (a walked rim's edges
+  *            run long, and where a sample comes in small dense clusters, a gap's
+  *            edges run short)
   * \param[in] min_rim_gap the least gap (radians) of a point that starts a walk
   *            after the outline is found (default 2 pi / 3)
   */
