@@ -50,17 +50,21 @@ windingNumber (const Points2& uv, const std::vector<pcl::index_t>& loop, const E
 /** \brief The loop with the points it stepped over put back. On a lattice or a
   * pixel outline the boundary runs through nearly collinear points, and a ring can
   * reach past the nearer one to the next; left inside, such a point maps inside the
-  * circle and its triangles fold over the loop edge or lie flat along it. A point of
-  * either end's ring that projects inside an edge and lies within a tenth of its
-  * length of it joins the loop there, the nearest to the edge's start first; the
-  * two new edges are looked at again. */
+  * circle and its triangles fold over the loop edge or lie flat along it. So does a
+  * point the walk passed by outside the loop (samples in rows: a row's end beyond
+  * the chord of its neighbours). A point of either end's ring that projects inside
+  * an edge and lies within a tenth of its length of it, or outside the loop (on the
+  * edge's right, around the ends' normals) within a quarter, joins the loop there,
+  * the nearest to the edge's start first; the two new edges are looked at again. */
 std::vector<pcl::index_t>
 withSteppedOverPoints (const Points3& points,
+                       const std::vector<Eigen::Vector3f>& normals,
                        const CsrGraph& rings,
                        const std::vector<pcl::index_t>& loop,
                        std::vector<char>& taken)
 {
-  const double max_offset = 0.1; // of the edge's length
+  const double max_offset = 0.1;          // of the edge's length, either side
+  const double max_outside_offset = 0.25; // of the edge's length, outside the loop
   std::vector<pcl::index_t> result;
   result.reserve (loop.size ());
   std::vector<std::pair<pcl::index_t, pcl::index_t>> edges; // to look at, last first
@@ -71,6 +75,7 @@ withSteppedOverPoints (const Points3& points,
       edges.pop_back ();
       const Eigen::Vector3d along = points[b] - points[a];
       const double length_squared = along.squaredNorm ();
+      const Eigen::Vector3d inward = (normals[a] + normals[b]).cast<double> ().cross (along);
       pcl::index_t best = -1;
       double best_t = 1.0;
       for (const pcl::index_t end : {a, b})
@@ -79,8 +84,9 @@ withSteppedOverPoints (const Points3& points,
             continue;
           const Eigen::Vector3d offset = points[*d] - points[a];
           const double t = offset.dot (along) / length_squared;
+          const double limit = offset.dot (inward) < 0.0 ? max_outside_offset : max_offset;
           if (t > 0.0 && t < best_t &&
-              (offset - t * along).squaredNorm () <= max_offset * max_offset * length_squared) {
+              (offset - t * along).squaredNorm () <= limit * limit * length_squared) {
             best = *d;
             best_t = t;
           }
@@ -198,7 +204,7 @@ public:
       return {};
     for (auto v : loop)
       on_loop_[v] = 1;
-    return withSteppedOverPoints (points_, rings_, loop, on_loop_);
+    return withSteppedOverPoints (points_, normals_, rings_, loop, on_loop_);
   }
 
 private:

@@ -361,6 +361,25 @@ TEST (DiscPipeline, SmallHolesInNoisyLatticesAndUnevenSamplesAreKept)
     }
 }
 
+TEST (DiscPipeline, OpenSurfacesSampledInRowsAreEmbeddedDiscs)
+{
+  // Rows four in-row spacings apart (a mesh's vertices around long thin
+  // triangles): where a row ends just beyond the chord between its neighbours'
+  // ends, the walk passes that end by; left inside, it folded a triangle over the
+  // outline. Every member is one embedded disc with the holes it was given.
+  for (const SyntheticShape shape : {SyntheticShape::Disc, SyntheticShape::HeightField})
+    for (const std::size_t holes : {0u, 1u, 3u})
+      for (const std::uint32_t seed : {1u, 2u}) {
+        SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " holes " +
+                      std::to_string (holes) + " seed " + std::to_string (seed));
+        pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0};
+        options.stretch = 4.0;
+        options.holes = holes;
+        Meshless reconstruction;
+        expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), holes);
+      }
+}
+
 TEST (DiscPipeline, OpenSurfacesWithNoiseAtThePointSpacingCloseWhenSmoothed)
 {
   // A flat disc and a height field with Gaussian noise of about half their point
