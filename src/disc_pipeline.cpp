@@ -167,6 +167,90 @@ sampleSpacings (const Points3& points, const CsrGraph& neighbourhoods)
   return spacing;
 }
 
+/** \brief The points and weights with one more point per hole, at its rim's
+  * centroid. A rim point's ring leaves the hole out, so it has no weights of its
+  * own (the fallback's lie over its unordered neighbourhood) and the map folded
+  * rims next to rows or uneven sampling. With the centre its ring surrounds it:
+  * mean value weights over the ring closed by the centre, the centre's own on the
+  * rim points evenly. Each hole is then a fan of a planar graph, whose rim the
+  * convex-combination map keeps a simple polygon (Tutte). */
+struct WithHoleCentres
+{
+  Points3 points;
+  Weights weights;
+};
+
+WithHoleCentres
+withHoleCentres (const Points3& points,
+                 const Weights& weights,
+                 const std::vector<Eigen::Vector3f>& normals,
+                 const CsrGraph& rings,
+                 const std::vector<std::vector<pcl::index_t>>& holes)
+{
+  const std::size_t n = points.size ();
+  std::vector<pcl::index_t> centre_of (n, -1);
+  WithHoleCentres result;
+  result.points = points;
+  for (std::size_t h = 0; h < holes.size (); ++h) {
+    Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
+    for (const auto v : holes[h]) {
+      centroid += points[v];
+      centre_of[v] = static_cast<pcl::index_t> (n + h);
+    }
+    result.points.push_back (centroid / static_cast<double> (holes[h].size ()));
+  }
+  CsrGraph& graph = result.weights.neighbours;
+  std::vector<double>& values = result.weights.values;
+  graph.offsets.assign (1, 0);
+  std::vector<std::pair<double, pcl::index_t>> around;
+  Points2 ring;
+  std::vector<double> lambda;
+  for (std::size_t v = 0; v < n; ++v) {
+    const auto vi = static_cast<pcl::index_t> (v);
+    bool closed = false;
+    if (centre_of[v] >= 0) {
+      // v's ring and the centre, counter-clockwise in v's tangent plane
+      const Eigen::Vector3d normal = normals[v].cast<double> ().normalized ();
+      const Eigen::Vector3d u = normal.unitOrthogonal (), w = normal.cross (u);
+      around.clear ();
+      auto add = [&] (pcl::index_t d) {
+        const Eigen::Vector3d offset = result.points[d] - points[v];
+        around.emplace_back (std::atan2 (offset.dot (w), offset.dot (u)), d);
+      };
+      for (const pcl::index_t* d = rings.begin (vi); d != rings.end (vi); ++d)
+        add (*d);
+      add (centre_of[v]);
+      std::sort (around.begin (), around.end ());
+      ring.clear ();
+      for (const auto& [angle, d] : around) {
+        const Eigen::Vector3d offset = result.points[d] - points[v];
+        ring.emplace_back (offset.dot (u), offset.dot (w));
+      }
+      closed = meanValueWeights (ring, lambda);
+      if (closed)
+        for (std::size_t k = 0; k < around.size (); ++k) {
+          graph.adjacency.push_back (around[k].second);
+          values.push_back (lambda[k]);
+        }
+    }
+    if (!closed)
+      for (auto k = weights.neighbours.offsets[v]; k < weights.neighbours.offsets[v + 1]; ++k) {
+        graph.adjacency.push_back (weights.neighbours.adjacency[k]);
+        values.push_back (weights.values[k]);
+      }
+    graph.offsets.push_back (static_cast<pcl::index_t> (graph.adjacency.size ()));
+  }
+  for (const auto& rim : holes) {
+    for (const auto v : rim) {
+      graph.adjacency.push_back (v);
+      values.push_back (1.0 / static_cast<double> (rim.size ()));
+    }
+    graph.offsets.push_back (static_cast<pcl::index_t> (graph.adjacency.size ()));
+  }
+  result.weights.success = true;
+  return result;
+}
+
 /** Walks boundary loops along the mutual ring graph with the outer-face rule
   * (see findBoundaryLoops), and keeps which points the loops found so far hold. */
 class BoundaryWalker
@@ -523,43 +607,57 @@ triangulateDisc (const Points3& points,
     return result;
   }
 
-  PatchTriangulation disc = triangulatePatch (points, weights, patch, options.solve);
+  std::vector<std::vector<pcl::index_t>> holes (boundary.loops.begin () + 1, boundary.loops.end ());
+  WithHoleCentres filled;
+  if (!holes.empty ()) {
+    filled = withHoleCentres (points, weights, ordered.normals, ordered.rings, holes);
+    for (std::size_t h = 0; h < holes.size (); ++h)
+      patch.points.push_back (static_cast<pcl::index_t> (n + h));
+  }
+  PatchTriangulation disc =
+      holes.empty () ? triangulatePatch (points, weights, patch, options.solve)
+                     : triangulatePatch (filled.points, filled.weights, patch, options.solve);
   if (!disc.success) {
     result.message = disc.message;
     return result;
   }
 
   // Holes stay open: drop the triangles whose parameter centroid lies inside an
-  // inner loop's parameter polygon.
+  // inner loop's parameter polygon (the centres' fans among them).
   Triangles kept = disc.triangles;
-  if (boundary.loops.size () > 1) {
-    std::vector<pcl::index_t> local_of (n, -1);
+  if (!holes.empty ()) {
+    std::vector<pcl::index_t> local_of (n + holes.size (), -1);
     for (std::size_t i = 0; i < patch.points.size (); ++i)
       local_of[patch.points[i]] = static_cast<pcl::index_t> (i);
-    std::vector<std::vector<pcl::index_t>> holes;
-    for (std::size_t h = 1; h < boundary.loops.size (); ++h) {
-      std::vector<pcl::index_t> hole;
-      for (auto v : boundary.loops[h])
-        hole.push_back (local_of[v]);
-      holes.push_back (std::move (hole));
-    }
+    for (auto& hole : holes)
+      for (auto& v : hole)
+        v = local_of[v];
     kept.clear ();
+    bool centre_kept = false;
     for (const Triangle& t : disc.triangles) {
       const Eigen::Vector2d centroid =
           (disc.uv[local_of[t[0]]] + disc.uv[local_of[t[1]]] + disc.uv[local_of[t[2]]]) / 3.0;
       bool in_hole = false;
       for (const auto& hole : holes)
         in_hole = in_hole || windingNumber (disc.uv, hole, centroid) != 0;
-      if (!in_hole)
-        kept.push_back (t);
+      if (in_hole)
+        continue;
+      centre_kept = centre_kept || std::any_of (t.begin (), t.end (), [&] (pcl::index_t v) {
+                      return static_cast<std::size_t> (v) >= n;
+                    });
+      kept.push_back (t);
     }
     MeshCheckOptions light;
     light.num_threads = options.num_threads;
     light.check_self_intersections = false;
-    const MeshReport cut = checkMesh (points, kept, light);
     // Each hole must open exactly one new boundary loop; a folded parameterization
     // can split one into several.
-    if (!cut.isDiscWithHoles (holes.size ()) || cut.unused_vertices != 0) {
+    bool clean = !centre_kept;
+    if (clean) {
+      const MeshReport cut = checkMesh (points, kept, light);
+      clean = cut.isDiscWithHoles (holes.size ()) && cut.unused_vertices == 0;
+    }
+    if (!clean) {
       result.message = std::to_string (holes.size ()) +
                        " inner boundary loop(s) (holes) could not be cut out cleanly; "
                        "the parameterization folds around them";
