@@ -53,8 +53,8 @@ windingNumber (const Points2& uv, const std::vector<pcl::index_t>& loop, const E
   * circle and its triangles fold over the loop edge or lie flat along it. So does a
   * point the walk passed by outside the loop (samples in rows: a row's end beyond
   * the chord of its neighbours). A point of either end's ring that projects inside
-  * an edge and lies within a tenth of its length of it, or outside the loop (on the
-  * edge's right, around the ends' normals) within a quarter, joins the loop there,
+  * an edge and lies within a tenth of its length of it, or off the surface's side
+  * (on the edge's right, around the ends' normals) within a quarter, joins the loop there,
   * the nearest to the edge's start first; the two new edges are looked at again. */
 std::vector<pcl::index_t>
 withSteppedOverPoints (const Points3& points,
@@ -64,7 +64,7 @@ withSteppedOverPoints (const Points3& points,
                        std::vector<char>& taken)
 {
   const double max_offset = 0.1;          // of the edge's length, either side
-  const double max_outside_offset = 0.25; // of the edge's length, outside the loop
+  const double max_outside_offset = 0.25; // of the edge's length, off the surface's side
   std::vector<pcl::index_t> result;
   result.reserve (loop.size ());
   std::vector<std::pair<pcl::index_t, pcl::index_t>> edges; // to look at, last first
@@ -123,6 +123,16 @@ medianSpacing (const std::vector<double>& spacing, const std::vector<pcl::index_
   return median (values);
 }
 
+/** \brief The length of a closed loop. */
+double
+loopLength (const Points3& points, const std::vector<pcl::index_t>& loop)
+{
+  double length = 0.0;
+  for (std::size_t k = 0; k < loop.size (); ++k)
+    length += (points[loop[(k + 1) % loop.size ()]] - points[loop[k]]).norm ();
+  return length;
+}
+
 /** \brief The least distance of a loop's points from their centroid. */
 double
 centroidClearance (const Points3& points, const std::vector<pcl::index_t>& loop)
@@ -144,13 +154,10 @@ double
 halfWidth (const Points3& points, const std::vector<pcl::index_t>& loop)
 {
   Eigen::Vector3d vector_area = Eigen::Vector3d::Zero ();
-  double length = 0.0;
-  for (std::size_t k = 0; k < loop.size (); ++k) {
-    const Eigen::Vector3d& a = points[loop[k]];
-    const Eigen::Vector3d& b = points[loop[(k + 1) % loop.size ()]];
-    vector_area += 0.5 * (a - points[loop[0]]).cross (b - points[loop[0]]);
-    length += (b - a).norm ();
-  }
+  for (std::size_t k = 0; k < loop.size (); ++k)
+    vector_area += 0.5 * (points[loop[k]] - points[loop[0]])
+                             .cross (points[loop[(k + 1) % loop.size ()]] - points[loop[0]]);
+  const double length = loopLength (points, loop);
   return length > 0.0 ? 2.0 * vector_area.norm () / length : 0.0;
 }
 
@@ -168,12 +175,13 @@ sampleSpacings (const Points3& points, const CsrGraph& neighbourhoods)
 }
 
 /** \brief The points and weights with one more point per hole, at its rim's
-  * centroid. A rim point's ring leaves the hole out, so it has no weights of its
-  * own (the fallback's lie over its unordered neighbourhood) and the map folded
-  * rims next to rows or uneven sampling. With the centre its ring surrounds it:
-  * mean value weights over the ring closed by the centre, the centre's own on the
-  * rim points evenly. Each hole is then a fan of a planar graph, whose rim the
-  * convex-combination map keeps a simple polygon (Tutte). */
+  * centroid. A rim point's ring is open towards the hole (its weights then the
+  * fallback's, over its unordered neighbourhood) or spans it with long edges (on
+  * a concave rim), and the map folded rims next to rows, clusters or uneven
+  * sampling. With the centre its ring surrounds it on the surface's side: mean
+  * value weights over the ring closed by the centre (kept as they were where
+  * those do not exist), the centre's own on the rim points evenly, so that each
+  * hole is nearly a fan, which a convex-combination map keeps simple (Tutte). */
 struct WithHoleCentres
 {
   Points3 points;
@@ -188,7 +196,7 @@ withHoleCentres (const Points3& points,
                  const std::vector<std::vector<pcl::index_t>>& holes)
 {
   const std::size_t n = points.size ();
-  std::vector<pcl::index_t> centre_of (n, -1);
+  std::vector<pcl::index_t> centre_of (n, -1); // one each: the walks take their loops' points
   WithHoleCentres result;
   result.points = points;
   for (std::size_t h = 0; h < holes.size (); ++h) {
@@ -276,6 +284,14 @@ public:
   onLoop (pcl::index_t v) const
   {
     return on_loop_[v] != 0;
+  }
+
+  /** Marks a loop found by another walker as taken. */
+  void
+  take (const std::vector<pcl::index_t>& loop)
+  {
+    for (const auto v : loop)
+      on_loop_[v] = 1;
   }
 
   /** The loop walked from `start` (empty if the walk does not close one of at
@@ -416,6 +432,48 @@ private:
   Points2 local_;
 };
 
+/** \brief The triangles of `disc` whose parameter centroid lies outside every
+  * hole's parameter polygon, into `kept`. \return whether they make a disc with
+  * that many holes through every point, none of them touching a hole's centre
+  * (an index past the points): a folded map can split a hole's rim into several
+  * loops or keep a centre's triangles. */
+bool
+trianglesOutsideHoles (const Points3& points,
+                       const PatchTriangulation& disc,
+                       const Patch& patch,
+                       const std::vector<std::vector<pcl::index_t>>& holes,
+                       int num_threads,
+                       Triangles& kept)
+{
+  const std::size_t n = points.size ();
+  std::vector<pcl::index_t> local_of (n + holes.size (), -1);
+  for (std::size_t i = 0; i < patch.points.size (); ++i)
+    local_of[patch.points[i]] = static_cast<pcl::index_t> (i);
+  std::vector<std::vector<pcl::index_t>> rims = holes;
+  for (auto& rim : rims)
+    for (auto& v : rim)
+      v = local_of[v];
+  kept.clear ();
+  for (const Triangle& t : disc.triangles) {
+    const Eigen::Vector2d centroid =
+        (disc.uv[local_of[t[0]]] + disc.uv[local_of[t[1]]] + disc.uv[local_of[t[2]]]) / 3.0;
+    const bool in_hole = std::any_of (rims.begin (), rims.end (), [&] (const auto& rim) {
+      return windingNumber (disc.uv, rim, centroid) != 0;
+    });
+    if (in_hole)
+      continue;
+    if (std::any_of (t.begin (), t.end (),
+                     [&] (pcl::index_t v) { return static_cast<std::size_t> (v) >= n; }))
+      return false;
+    kept.push_back (t);
+  }
+  MeshCheckOptions light;
+  light.num_threads = num_threads;
+  light.check_self_intersections = false;
+  const MeshReport cut = checkMesh (points, kept, light);
+  return cut.isDiscWithHoles (holes.size ()) && cut.unused_vertices == 0;
+}
+
 } // namespace
 
 BoundaryLoops
@@ -458,19 +516,9 @@ findBoundaryLoops (const Points3& points,
     walker.emplace (points, normals, rings, mutual, min_loop, cut_notches);
     std::for_each (candidates.begin (), rims, walkFrom);
   }
-  // The rim of a round hole a few spacings wide is concave all round: none of its
-  // gaps reaches min_gap. Its walks start once the outline is known, so that the
-  // smaller gaps walked cannot stand in for a missed outline.
-  if (!result.loops.empty ())
-    std::for_each (rims, candidates.end (), walkFrom);
-  auto length = [&] (const std::vector<pcl::index_t>& loop) {
-    double sum = 0.0;
-    for (std::size_t k = 0; k < loop.size (); ++k)
-      sum += (points[loop[(k + 1) % loop.size ()]] - points[loop[k]]).norm ();
-    return sum;
-  };
-  std::stable_sort (result.loops.begin (), result.loops.end (),
-                    [&] (const auto& a, const auto& b) { return length (a) > length (b); });
+  std::stable_sort (result.loops.begin (), result.loops.end (), [&] (const auto& a, const auto& b) {
+    return loopLength (points, a) > loopLength (points, b);
+  });
   // Where the outer boundary is too ragged to walk, the longest loop found can be a
   // gap of the sample: as the outer loop it would fold the whole map. An outer loop
   // is a gap's if it is neither wide nor long (a boundary is some square root of
@@ -487,16 +535,26 @@ findBoundaryLoops (const Points3& points,
     result.loops.clear ();
     return result;
   }
+  // The rim of a round hole a few spacings wide is concave all round: none of its
+  // gaps reaches min_gap. Its walks start once the outline is known (the smaller
+  // gaps walked must not stand in for a missed outline), without cutting notches,
+  // and what they find can only be holes.
+  if (!result.loops.empty () && rims != candidates.end ()) {
+    walker.emplace (points, normals, rings, mutual, min_loop, false);
+    for (const auto& loop : result.loops)
+      walker->take (loop);
+    std::for_each (rims, candidates.end (), walkFrom);
+  }
   // An inner loop is a hole only if it is wider than the gaps of the sample itself:
   // jittered or noisy samples leave gaps a few points around, as wide as a scan's
-  // small dropouts. Narrower loops are closed over (measured: doc/design.md). The
+  // small dropouts. Narrower loops are closed over (measured: doc/benchmarks.md). The
   // points' spacing is the yardstick where given; loop edges are coarser (the walk
   // steps over rim points, and dense clusters shorten a gap's edges).
   const bool spaced = spacing.size () == n;
   const double min_hole_half_width = spaced ? 2.05 : 1.5;
   auto narrow = [&] (const std::vector<pcl::index_t>& loop) {
     const double yardstick = spaced ? medianSpacing (spacing, loop) : medianEdge (points, loop);
-    return halfWidth (points, loop) < min_hole_half_width * yardstick;
+    return !(yardstick > 0.0 && halfWidth (points, loop) >= min_hole_half_width * yardstick);
   };
   if (result.loops.size () > 1)
     result.loops.erase (std::remove_if (result.loops.begin () + 1, result.loops.end (), narrow),
@@ -607,64 +665,40 @@ triangulateDisc (const Points3& points,
     return result;
   }
 
-  std::vector<std::vector<pcl::index_t>> holes (boundary.loops.begin () + 1, boundary.loops.end ());
-  WithHoleCentres filled;
-  if (!holes.empty ()) {
-    filled = withHoleCentres (points, weights, ordered.normals, ordered.rings, holes);
-    for (std::size_t h = 0; h < holes.size (); ++h)
-      patch.points.push_back (static_cast<pcl::index_t> (n + h));
+  const std::vector<std::vector<pcl::index_t>> holes (boundary.loops.begin () + 1,
+                                                      boundary.loops.end ());
+  PatchTriangulation disc;
+  Triangles kept;
+  if (holes.empty ()) {
+    disc = triangulatePatch (points, weights, patch, options.solve);
+    kept = disc.triangles;
   }
-  PatchTriangulation disc =
-      holes.empty () ? triangulatePatch (points, weights, patch, options.solve)
-                     : triangulatePatch (filled.points, filled.weights, patch, options.solve);
+  else {
+    const WithHoleCentres filled =
+        withHoleCentres (points, weights, ordered.normals, ordered.rings, holes);
+    Patch with_centres = patch;
+    for (std::size_t h = 0; h < holes.size (); ++h)
+      with_centres.points.push_back (static_cast<pcl::index_t> (n + h));
+    disc = triangulatePatch (filled.points, filled.weights, with_centres, options.solve);
+    // A bent or C-shaped hole's centroid can lie off the hole: then the map
+    // without centres.
+    if (!disc.success ||
+        !trianglesOutsideHoles (points, disc, with_centres, holes, options.num_threads, kept)) {
+      disc = triangulatePatch (points, weights, patch, options.solve);
+      if (disc.success &&
+          !trianglesOutsideHoles (points, disc, patch, holes, options.num_threads, kept)) {
+        result.message = std::to_string (holes.size ()) +
+                         " inner boundary loop(s) (holes) could not be cut out cleanly; "
+                         "the parameterization folds around them";
+        return result;
+      }
+    }
+  }
   if (!disc.success) {
     result.message = disc.message;
     return result;
   }
-
-  // Holes stay open: drop the triangles whose parameter centroid lies inside an
-  // inner loop's parameter polygon (the centres' fans among them).
-  Triangles kept = disc.triangles;
-  if (!holes.empty ()) {
-    std::vector<pcl::index_t> local_of (n + holes.size (), -1);
-    for (std::size_t i = 0; i < patch.points.size (); ++i)
-      local_of[patch.points[i]] = static_cast<pcl::index_t> (i);
-    for (auto& hole : holes)
-      for (auto& v : hole)
-        v = local_of[v];
-    kept.clear ();
-    bool centre_kept = false;
-    for (const Triangle& t : disc.triangles) {
-      const Eigen::Vector2d centroid =
-          (disc.uv[local_of[t[0]]] + disc.uv[local_of[t[1]]] + disc.uv[local_of[t[2]]]) / 3.0;
-      bool in_hole = false;
-      for (const auto& hole : holes)
-        in_hole = in_hole || windingNumber (disc.uv, hole, centroid) != 0;
-      if (in_hole)
-        continue;
-      centre_kept = centre_kept || std::any_of (t.begin (), t.end (), [&] (pcl::index_t v) {
-                      return static_cast<std::size_t> (v) >= n;
-                    });
-      kept.push_back (t);
-    }
-    MeshCheckOptions light;
-    light.num_threads = options.num_threads;
-    light.check_self_intersections = false;
-    // Each hole must open exactly one new boundary loop; a folded parameterization
-    // can split one into several.
-    bool clean = !centre_kept;
-    if (clean) {
-      const MeshReport cut = checkMesh (points, kept, light);
-      clean = cut.isDiscWithHoles (holes.size ()) && cut.unused_vertices == 0;
-    }
-    if (!clean) {
-      result.message = std::to_string (holes.size ()) +
-                       " inner boundary loop(s) (holes) could not be cut out cleanly; "
-                       "the parameterization folds around them";
-      return result;
-    }
-    result.holes = holes.size ();
-  }
+  result.holes = holes.size ();
   result.triangles = std::move (kept);
   result.normals = ordered.normals;
   result.outer_loop = patch.loop;

@@ -95,6 +95,7 @@ TEST (DiscPipeline, TheWalkGoesRoundTheConcaveRimsOfSmallHoles)
             findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap,
                                pi, 8, {}, pi);
         ASSERT_TRUE (from_wide_gaps.success) << from_wide_gaps.message;
+        ASSERT_LE (from_wide_gaps.loops.size (), 1 + holes);
         holes_given += holes;
         missed_from_wide_gaps += 1 + holes - from_wide_gaps.loops.size ();
       }

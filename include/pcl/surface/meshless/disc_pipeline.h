@@ -41,13 +41,15 @@ struct BoundaryLoops : StageStatus
   * \param[in] min_loop loops with fewer points are noise and dropped (default 8)
   * \param[in] spacing optional, a distance per point (ignored unless there is one
   *            per point), the typical gap of the sample around it: an inner loop
-  *            is a hole only if its half-width (twice its area over its length)
-  *            is at least 2.05 times its points' median spacing; without spacings,
+  *            is a hole only if its half-width (twice its area over its length;
+  *            the area is its vector area's norm, the largest of its
+  *            projections) is at least 2.05 times its points' median spacing; without spacings,
   *            1.5 times its median edge, a coarser yardstick (a walked rim's edges
   *            run long, and where a sample comes in small dense clusters, a gap's
   *            edges run short)
   * \param[in] min_rim_gap the least gap (radians) of a point that starts a walk
-  *            after the outline is found (default 2 pi / 3)
+  *            after the outline is found (default 2 pi / 3; no effect unless
+  *            below min_gap)
   */
 BoundaryLoops
 findBoundaryLoops (const Points3& points,
@@ -82,7 +84,9 @@ openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangle
 
 struct DiscPipelineOptions
 {
-  /** \brief Default: WeightType::MeanValue. */
+  /** \brief Default: WeightType::MeanValue. The rim points of holes get mean value
+    * weights over their rings closed by the hole's centre whatever the type
+    * (see triangulateDisc). */
   WeightType weights = WeightType::MeanValue;
   SolveOptions solve;
   /** \brief Threads for the graphs (0 = all cores). */
@@ -108,7 +112,10 @@ struct DiscTriangulation : StageStatus
   * oriented rings, weights, the outer loop on the unit circle, one sparse solve,
   * exact Delaunay of the parameter points, triangles back to 3D. Inner boundary
   * loops (holes, depth-camera shadows) stay open: the triangles whose parameter
-  * centroid lies inside a hole's loop are removed.
+  * centroid lies inside a hole's loop are removed. In the map each hole gets one
+  * more point at its rim's centroid, on which the rim points' rings close (else
+  * they are open towards the hole); where the holes cannot be cut out cleanly
+  * so (a bent hole's centroid can lie off it), the map is made without them.
   * \param[in] neighbourhoods directed neighbourhoods N(v)
   * \return fails if no boundary loop is found (a closed surface: use the
   *         spherical pipeline) or a stage fails

@@ -40,7 +40,7 @@ constexpr double min_noise_ratio = 0.15;
   * failed cloud's points. Above it the sample's own gaps on the projections grow as
   * wide as holes and a hole's rim can be missed, so that the hole count would be
   * wrong; such a cloud is refused unless asked to smooth always. */
-constexpr double max_disc_noise_ratio = 0.45;
+constexpr double max_disc_noise_ratio = 0.5;
 
 /** \brief The points projected onto the quadratic surfaces fitted to their
   * neighbourhoods, and how far they moved. */
