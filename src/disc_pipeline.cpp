@@ -51,7 +51,7 @@ windingNumber (const Points2& uv, const std::vector<pcl::index_t>& loop, const E
   * pixel outline the boundary runs through nearly collinear points, and a ring can
   * reach past the nearer one to the next; left inside, such a point maps inside the
   * circle and its triangles fold over the loop edge or lie flat along it. So does a
-  * point the walk passed by outside the loop (samples in rows: a row's end beyond
+  * point the walk passed by off the surface (samples in rows: a row's end beyond
   * the chord of its neighbours). A point of either end's ring that projects inside
   * an edge and lies within a tenth of its length of it, or off the surface's side
   * (on the edge's right, around the ends' normals) within a quarter, joins the loop there,
@@ -181,7 +181,8 @@ sampleSpacings (const Points3& points, const CsrGraph& neighbourhoods)
   * sampling. With the centre its ring surrounds it on the surface's side: mean
   * value weights over the ring closed by the centre (kept as they were where
   * those do not exist), the centre's own on the rim points evenly, so that each
-  * hole is nearly a fan, which a convex-combination map keeps simple (Tutte). */
+  * hole is nearly a fan, which tends to keep the rim simple in the map (as Tutte's
+  * theorem does for convex combinations over planar graphs). */
 struct WithHoleCentres
 {
   Points3 points;
@@ -516,9 +517,10 @@ findBoundaryLoops (const Points3& points,
     walker.emplace (points, normals, rings, mutual, min_loop, cut_notches);
     std::for_each (candidates.begin (), rims, walkFrom);
   }
-  std::stable_sort (result.loops.begin (), result.loops.end (), [&] (const auto& a, const auto& b) {
+  auto longer = [&] (const std::vector<pcl::index_t>& a, const std::vector<pcl::index_t>& b) {
     return loopLength (points, a) > loopLength (points, b);
-  });
+  };
+  std::stable_sort (result.loops.begin (), result.loops.end (), longer);
   // Where the outer boundary is too ragged to walk, the longest loop found can be a
   // gap of the sample: as the outer loop it would fold the whole map. An outer loop
   // is a gap's if it is neither wide nor long (a boundary is some square root of
@@ -537,13 +539,14 @@ findBoundaryLoops (const Points3& points,
   }
   // The rim of a round hole a few spacings wide is concave all round: none of its
   // gaps reaches min_gap. Its walks start once the outline is known (the smaller
-  // gaps walked must not stand in for a missed outline), without cutting notches,
-  // and what they find can only be holes.
+  // gaps walked must not stand in for a missed outline), without cutting notches;
+  // the longest loop stays the outline.
   if (!result.loops.empty () && rims != candidates.end ()) {
     walker.emplace (points, normals, rings, mutual, min_loop, false);
     for (const auto& loop : result.loops)
       walker->take (loop);
     std::for_each (rims, candidates.end (), walkFrom);
+    std::stable_sort (result.loops.begin (), result.loops.end (), longer);
   }
   // An inner loop is a hole only if it is wider than the gaps of the sample itself:
   // jittered or noisy samples leave gaps a few points around, as wide as a scan's

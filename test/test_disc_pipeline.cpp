@@ -13,6 +13,7 @@
 #include <Eigen/Geometry>
 
 #include <cmath>
+#include <random>
 
 using namespace pcl::meshless;
 
@@ -101,6 +102,29 @@ TEST (DiscPipeline, TheWalkGoesRoundTheConcaveRimsOfSmallHoles)
       }
   EXPECT_GT (3 * missed_from_wide_gaps, holes_given)
       << "the wide gaps found nearly every rim: the family no longer tests the concave ones";
+}
+
+TEST (DiscPipeline, ALoopIsAHoleOnlyIfWiderThanItsPointsSpacing)
+{
+  // A round hole kept by the loop-edge yardstick; with a spacing of zero (points
+  // on top of each other) no loop is wide enough to count, and none is kept.
+  Points3 points;
+  for (const auto& p : sampleShape (SyntheticShape::Disc, {4000, 3, 0.0}))
+    if ((p.head<2> () - Eigen::Vector2d (0.2, 0.1)).norm () > 0.25)
+      points.push_back (p);
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
+  const CsrGraph mutual = mutualRingGraph (ordered.rings);
+  orientNormals (points, graph, mutual, ordered);
+  const BoundaryLoops by_edges =
+      findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap);
+  ASSERT_TRUE (by_edges.success) << by_edges.message;
+  EXPECT_EQ (by_edges.loops.size (), 2u);
+  const BoundaryLoops by_zero_spacing =
+      findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap, pi, 8,
+                         std::vector<double> (points.size (), 0.0));
+  ASSERT_TRUE (by_zero_spacing.success) << by_zero_spacing.message;
+  EXPECT_EQ (by_zero_spacing.loops.size (), 1u);
 }
 
 TEST (DiscPipeline, DiscHeightFieldAndHemisphereAreManifoldDiscs)
@@ -360,6 +384,27 @@ TEST (DiscPipeline, SmallHolesInNoisyLatticesAndUnevenSamplesAreKept)
       Meshless reconstruction;
       expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), 1);
     }
+}
+
+TEST (DiscPipeline, AHoleBentRoundTheCentreIsKept)
+{
+  // A slot bent through half a turn round the disc's centre: its rim's centroid
+  // lies on the surface, not in the hole, yet the centre's place in the map is
+  // the rim's average there, and the hole is cut out with its rim.
+  for (const std::uint32_t seed : {1u, 2u}) {
+    SCOPED_TRACE ("seed " + std::to_string (seed));
+    std::mt19937 random (seed);
+    std::uniform_real_distribution<double> unit (-1.0, 1.0);
+    Points3 points;
+    while (points.size () < 6000) {
+      const double x = unit (random), y = unit (random), r = std::hypot (x, y);
+      const bool in_slot = r > 0.3 && r < 0.5 && y > 0.0;
+      if (r <= 1.0 && !in_slot)
+        points.emplace_back (x, y, 0.1 * std::sin (2.0 * x));
+    }
+    Meshless reconstruction;
+    expectDiscWithHoles (reconstruction, toCloud (points), 1);
+  }
 }
 
 TEST (DiscPipeline, OpenSurfacesSampledInRowsAreEmbeddedDiscs)

@@ -31,8 +31,9 @@ struct BoundaryLoops : StageStatus
   * boundary points whose gap is smaller (concave corners). A walk that meets a
   * point twice stops; only where no walk closes a loop do they run again and cut
   * off the shorter of the two loops through such a point (a notch pinched by
-  * noise), if it has fewer than `min_loop` points. Once a loop is found, walks
-  * also start from points whose gap is at least `min_rim_gap`: a round hole a few
+  * noise), if it has fewer than `min_loop` points. Once the outline is found (and
+  * is not refused as a gap of the sample), walks also start, without cutting
+  * notches, from points whose gap is at least `min_rim_gap`: a round hole a few
   * spacings wide has a concave rim, on which every gap stays below `min_gap`.
   * \param[in] normals the consistently oriented normals the rings turn around
   * \param[in] rings rings counter-clockwise around `normals`
@@ -85,8 +86,8 @@ openMissedHoles (const Points3& points, const CsrGraph& neighbourhoods, Triangle
 struct DiscPipelineOptions
 {
   /** \brief Default: WeightType::MeanValue. The rim points of holes get mean value
-    * weights over their rings closed by the hole's centre whatever the type
-    * (see triangulateDisc). */
+    * weights over their rings closed by the hole's centre whatever the type,
+    * unless the map is made without centres (see triangulateDisc). */
   WeightType weights = WeightType::MeanValue;
   SolveOptions solve;
   /** \brief Threads for the graphs (0 = all cores). */
