@@ -133,14 +133,21 @@ loopLength (const Points3& points, const std::vector<pcl::index_t>& loop)
   return length;
 }
 
-/** \brief The least distance of a loop's points from their centroid. */
-double
-centroidClearance (const Points3& points, const std::vector<pcl::index_t>& loop)
+/** \brief The mean of a loop's points. */
+Eigen::Vector3d
+loopCentroid (const Points3& points, const std::vector<pcl::index_t>& loop)
 {
   Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
   for (const auto v : loop)
     centroid += points[v];
-  centroid /= static_cast<double> (loop.size ());
+  return centroid / static_cast<double> (loop.size ());
+}
+
+/** \brief The least distance of a loop's points from their centroid. */
+double
+centroidClearance (const Points3& points, const std::vector<pcl::index_t>& loop)
+{
+  const Eigen::Vector3d centroid = loopCentroid (points, loop);
   double nearest = std::numeric_limits<double>::max ();
   for (const auto v : loop)
     nearest = std::min (nearest, (points[v] - centroid).norm ());
@@ -201,12 +208,9 @@ withHoleCentres (const Points3& points,
   WithHoleCentres result;
   result.points = points;
   for (std::size_t h = 0; h < holes.size (); ++h) {
-    Eigen::Vector3d centroid = Eigen::Vector3d::Zero ();
-    for (const auto v : holes[h]) {
-      centroid += points[v];
+    for (const auto v : holes[h])
       centre_of[v] = static_cast<pcl::index_t> (n + h);
-    }
-    result.points.push_back (centroid / static_cast<double> (holes[h].size ()));
+    result.points.push_back (loopCentroid (points, holes[h]));
   }
   CsrGraph& graph = result.weights.neighbours;
   std::vector<double>& values = result.weights.values;

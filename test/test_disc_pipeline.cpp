@@ -45,17 +45,33 @@ hemisphere (std::size_t n)
   return points;
 }
 
+/** What findBoundaryLoops walks, from the 12 nearest: rings around oriented
+  * normals and the mutual ring graph. */
+struct WalkedGraphs
+{
+  OrderedNeighbourhoods ordered;
+  CsrGraph mutual;
+};
+
+WalkedGraphs
+walkedGraphs (const Points3& points)
+{
+  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+  WalkedGraphs result{orderNeighbourhoods (points, graph), {}};
+  result.mutual = mutualRingGraph (result.ordered.rings);
+  orientNormals (points, graph, result.mutual, result.ordered);
+  return result;
+}
+
 } // namespace
 
 TEST (DiscPipeline, BoundaryLoopOfAFlatDiscGoesRoundTheRim)
 {
   const Points3 points = sampleShape (SyntheticShape::Disc, {2000, 2, 0.0});
-  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
-  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-  const CsrGraph mutual = mutualRingGraph (ordered.rings);
-  orientNormals (points, graph, mutual, ordered);
+  const WalkedGraphs walked = walkedGraphs (points);
   const BoundaryLoops loops =
-      findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap);
+      findBoundaryLoops (points, walked.ordered.normals, walked.ordered.rings, walked.mutual,
+                         walked.ordered.largest_gap);
   ASSERT_TRUE (loops.success) << loops.message;
   ASSERT_EQ (loops.loops.size (), 1u);
   const auto& loop = loops.loops[0];
@@ -84,17 +100,15 @@ TEST (DiscPipeline, TheWalkGoesRoundTheConcaveRimsOfSmallHoles)
         pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0};
         options.holes = holes;
         const Points3 points = sampleShape (shape, options);
-        const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
-        OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-        const CsrGraph mutual = mutualRingGraph (ordered.rings);
-        orientNormals (points, graph, mutual, ordered);
+        const WalkedGraphs walked = walkedGraphs (points);
         const BoundaryLoops loops =
-            findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap);
+            findBoundaryLoops (points, walked.ordered.normals, walked.ordered.rings, walked.mutual,
+                               walked.ordered.largest_gap);
         ASSERT_TRUE (loops.success) << loops.message;
         EXPECT_EQ (loops.loops.size (), 1 + holes);
         const BoundaryLoops from_wide_gaps =
-            findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap,
-                               pi, 8, {}, pi);
+            findBoundaryLoops (points, walked.ordered.normals, walked.ordered.rings, walked.mutual,
+                               walked.ordered.largest_gap, pi, 8, {}, pi);
         ASSERT_TRUE (from_wide_gaps.success) << from_wide_gaps.message;
         ASSERT_LE (from_wide_gaps.loops.size (), 1 + holes);
         holes_given += holes;
@@ -112,16 +126,15 @@ TEST (DiscPipeline, ALoopIsAHoleOnlyIfWiderThanItsPointsSpacing)
   for (const auto& p : sampleShape (SyntheticShape::Disc, {4000, 3, 0.0}))
     if ((p.head<2> () - Eigen::Vector2d (0.2, 0.1)).norm () > 0.25)
       points.push_back (p);
-  const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
-  OrderedNeighbourhoods ordered = orderNeighbourhoods (points, graph);
-  const CsrGraph mutual = mutualRingGraph (ordered.rings);
-  orientNormals (points, graph, mutual, ordered);
+  const WalkedGraphs walked = walkedGraphs (points);
   const BoundaryLoops by_edges =
-      findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap);
+      findBoundaryLoops (points, walked.ordered.normals, walked.ordered.rings, walked.mutual,
+                         walked.ordered.largest_gap);
   ASSERT_TRUE (by_edges.success) << by_edges.message;
   EXPECT_EQ (by_edges.loops.size (), 2u);
   const BoundaryLoops by_zero_spacing =
-      findBoundaryLoops (points, ordered.normals, ordered.rings, mutual, ordered.largest_gap, pi, 8,
+      findBoundaryLoops (points, walked.ordered.normals, walked.ordered.rings, walked.mutual,
+                         walked.ordered.largest_gap, pi, 8,
                          std::vector<double> (points.size (), 0.0));
   ASSERT_TRUE (by_zero_spacing.success) << by_zero_spacing.message;
   EXPECT_EQ (by_zero_spacing.loops.size (), 1u);
