@@ -160,6 +160,15 @@ public:
     return failed_on_the_surface_;
   }
 
+  /** \brief After run (): every base mesh of the class's own failed on a graph in
+    * one piece, at genus 0 (neither separate objects nor a handle), so no mesh was
+    * made to repair. */
+  bool
+  routedNothing () const
+  {
+    return routed_nothing_;
+  }
+
   /** \brief After run (): the progress callback said cancel. */
   bool
   cancelled () const
@@ -236,6 +245,7 @@ private:
   bool genus_presumed_ = false; // genus 0 from the polyhedra, no D grown: only if they succeed
   bool handles_seen_ = false;   // by the polyhedra's check, where no D of that genus grew
   bool failed_on_the_surface_ = false;
+  bool routed_nothing_ = false;
 };
 
 bool
@@ -704,9 +714,12 @@ Conductor::run ()
   if (!flat.empty ())
     fail (flat);
   else if (searchNeighbourhoods ()) {
+    const ReconstructionReport& report = result_.report;
     if (closed_ ? firstSphereRun () : firstDiscRun ())
       finishAndRetry ();
-    const ReconstructionReport& report = result_.report;
+    else
+      routed_nothing_ = closed_ && !cancelled_ && options_.base_faces.empty () &&
+                        report.stats.graph_pieces <= 1 && report.stats.genus == 0;
     failed_on_the_surface_ = !report.success && !cancelled_ &&
                              !(options_.topology == Topology::Sphere && report.stats.genus > 0);
   }
@@ -819,13 +832,16 @@ searchAmong (const Points3& points, const ReconstructionOptions& options)
   * `failed` (a failed run on the points themselves; empty for PointSmoothing::Always):
   * fitted over 4k neighbours, then over 6k where that run fails too. The result is
   * the first projections' run that succeeds, else `failed` with the noise measured
-  * (or, asked to smooth always, the last run). */
+  * (or, asked to smooth always, the last run). `cancelled` says whether the progress
+  * callback stopped it. */
 Reconstruction
 runOnFittedSurfaces (const PreparedPoints& prepared,
                      const NeighbourSearch& search,
                      const ReconstructionOptions& options,
-                     Reconstruction failed)
+                     Reconstruction failed,
+                     bool& cancelled)
 {
+  cancelled = false;
   const bool always = options.smoothing == PointSmoothing::Always;
   ReconstructionReport& report = failed.report;
   report.num_points = prepared.points.size ();
@@ -863,6 +879,7 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
     report.stage_seconds.emplace_back ("smoothing", seconds);
     if (options.progress && !options.progress ({"smoothing", 0.01, seconds, detail})) {
       report.message = "cancelled by the progress callback";
+      cancelled = true;
       return failed;
     }
     if (!always && first_fit.noise_ratio < min_noise_ratio)
@@ -885,6 +902,7 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
                                  second.report.stage_seconds.end ());
     if (conductor.cancelled ()) {
       report.message = "cancelled by the progress callback";
+      cancelled = true;
       return failed;
     }
     if (second.report.success) {
@@ -906,6 +924,44 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
   return second;
 }
 
+/** \brief A run at twice the neighbours, after every base mesh failed at k on a graph
+  * in one piece (Conductor::routedNothing) and the smoothing did not help: where the
+  * k nearest of a point lie on one side of it (small clusters, a sparse sample of a
+  * curved part) its ring stays open, its weights are the fallback's and the paths
+  * find no room; twice as many close such rings. After the smoothing, so that noise
+  * at the spacing is meshed through fitted surfaces rather than through wider
+  * neighbourhoods of its swings. The result is that run if it succeeds, else
+  * `failed` saying so. */
+Reconstruction
+runWithTwiceTheNeighbours (const PreparedPoints& prepared,
+                           const NeighbourSearch& search,
+                           const ReconstructionOptions& options,
+                           Reconstruction failed)
+{
+  // Twice the k the run ended on: it may have joined pieces with more already.
+  ReconstructionOptions wider = options;
+  wider.k = timesNeighbours (2, std::max (options.k, failed.report.neighbours_k));
+  if (static_cast<std::size_t> (wider.k) >= prepared.points.size ())
+    return failed;
+  Conductor conductor (prepared, search, wider);
+  Reconstruction second = conductor.run ();
+  ReconstructionReport& report = failed.report;
+  report.stage_seconds.insert (report.stage_seconds.end (),
+                               second.report.stage_seconds.begin (),
+                               second.report.stage_seconds.end ());
+  if (conductor.cancelled ()) {
+    report.message = "cancelled by the progress callback";
+    return failed;
+  }
+  if (!second.report.success) {
+    report.message += "; so did a run with " + std::to_string (wider.k) + " neighbours";
+    return failed;
+  }
+  second.report.noise = report.noise;
+  second.report.stage_seconds = std::move (report.stage_seconds);
+  return second;
+}
+
 } // namespace
 
 Reconstruction
@@ -917,18 +973,27 @@ reconstruct (const PreparedPoints& prepared,
   result.report.message = checkOptions (options);
   if (!result.report.message.empty ())
     return result;
+  bool cancelled = false;
   if (options.smoothing == PointSmoothing::Always && prepared.points.size () >= 4)
-    return runOnFittedSurfaces (prepared, search, options, std::move (result));
+    return runOnFittedSurfaces (prepared, search, options, std::move (result), cancelled);
   bool failed_on_the_surface = false;
+  bool routed_nothing = false;
   {
     Conductor first (prepared, search, options);
     result = first.run ();
     failed_on_the_surface = first.failedOnTheSurface ();
+    routed_nothing = first.routedNothing ();
   } // its neighbourhoods and finisher go before another run
-  if (result.report.success || options.smoothing != PointSmoothing::IfNoisy ||
-      !failed_on_the_surface)
+  if (result.report.success || !failed_on_the_surface)
     return result;
-  return runOnFittedSurfaces (prepared, search, options, std::move (result));
+  if (options.smoothing == PointSmoothing::IfNoisy) {
+    result = runOnFittedSurfaces (prepared, search, options, std::move (result), cancelled);
+    if (result.report.success)
+      return result;
+  }
+  if (!routed_nothing || cancelled || options.radius > 0.0)
+    return result;
+  return runWithTwiceTheNeighbours (prepared, search, options, std::move (result));
 }
 
 } // namespace meshless
