@@ -160,13 +160,14 @@ public:
     return failed_on_the_surface_;
   }
 
-  /** \brief After run (): every base mesh of the class's own failed on a graph in
-    * one piece, at genus 0 (neither separate objects nor a handle), so no mesh was
-    * made to repair. */
+  /** \brief After run (): a run at twice the neighbours may succeed where this one
+    * failed on a graph in one piece (not separate objects): a closed run whose every
+    * base mesh of the class's own failed at genus 0 (no handle seen, no mesh made to
+    * repair), or an open surface's run. */
   bool
-  routedNothing () const
+  widerMayHelp () const
   {
-    return routed_nothing_;
+    return wider_may_help_;
   }
 
   /** \brief After run (): the progress callback said cancel. */
@@ -245,7 +246,7 @@ private:
   bool genus_presumed_ = false; // genus 0 from the polyhedra, no D grown: only if they succeed
   bool handles_seen_ = false;   // by the polyhedra's check, where no D of that genus grew
   bool failed_on_the_surface_ = false;
-  bool routed_nothing_ = false;
+  bool wider_may_help_ = false;
 };
 
 bool
@@ -715,13 +716,20 @@ Conductor::run ()
     fail (flat);
   else if (searchNeighbourhoods ()) {
     const ReconstructionReport& report = result_.report;
-    if (closed_ ? firstSphereRun () : firstDiscRun ())
+    const bool routed = closed_ ? firstSphereRun () : firstDiscRun ();
+    if (routed)
       finishAndRetry ();
-    else
-      routed_nothing_ = closed_ && !cancelled_ && options_.base_faces.empty () &&
-                        report.stats.graph_pieces <= 1 && report.stats.genus == 0;
     failed_on_the_surface_ = !report.success && !cancelled_ &&
                              !(options_.topology == Topology::Sphere && report.stats.genus > 0);
+    if (closed_)
+      wider_may_help_ = !routed && !cancelled_ && options_.base_faces.empty () &&
+                        report.stats.graph_pieces <= 1 && report.stats.genus == 0;
+    else if (failed_on_the_surface_) {
+      std::vector<pcl::index_t> pieces;
+      wider_may_help_ = connectedComponents (symmetricGraph (neighbourhoods_.neighbours,
+                                                             static_cast<int> (options_.num_threads)),
+                                             pieces) == 1;
+    }
   }
   return take ();
 }
@@ -924,13 +932,14 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
   return second;
 }
 
-/** \brief A run at twice the neighbours, after every base mesh failed at k on a graph
-  * in one piece (Conductor::routedNothing) and the smoothing did not help: where the
-  * k nearest of a point lie on one side of it (small clusters, a sparse sample of a
-  * curved part) its ring stays open, its weights are the fallback's and the paths
-  * find no room; twice as many close such rings. After the smoothing, so that noise
-  * at the spacing is meshed through fitted surfaces rather than through wider
-  * neighbourhoods of its swings. The result is that run if it succeeds, else
+/** \brief A run at twice the neighbours, after a run on a graph in one piece failed
+  * (Conductor::widerMayHelp) and the smoothing did not help: where the k nearest of
+  * a point lie on one side of it (small clusters, a sparse sample of a curved part,
+  * density falling off steeply) its ring stays open and its weights are the
+  * fallback's: closed runs find no room for their paths, open ones fold or cannot
+  * cut their holes out. Twice as many close such rings. After the smoothing, so
+  * that noise at the spacing is meshed through fitted surfaces rather than through
+  * wider neighbourhoods of its swings. The result is that run if it succeeds, else
   * `failed` saying so. */
 Reconstruction
 runWithTwiceTheNeighbours (const PreparedPoints& prepared,
@@ -977,12 +986,12 @@ reconstruct (const PreparedPoints& prepared,
   if (options.smoothing == PointSmoothing::Always && prepared.points.size () >= 4)
     return runOnFittedSurfaces (prepared, search, options, std::move (result), cancelled);
   bool failed_on_the_surface = false;
-  bool routed_nothing = false;
+  bool wider_may_help = false;
   {
     Conductor first (prepared, search, options);
     result = first.run ();
     failed_on_the_surface = first.failedOnTheSurface ();
-    routed_nothing = first.routedNothing ();
+    wider_may_help = first.widerMayHelp ();
   } // its neighbourhoods and finisher go before another run
   if (result.report.success || !failed_on_the_surface)
     return result;
@@ -991,7 +1000,12 @@ reconstruct (const PreparedPoints& prepared,
     if (result.report.success)
       return result;
   }
-  if (!routed_nothing || cancelled || options.radius > 0.0)
+  // An open surface only where its noise was measured low enough to tell its holes
+  // from the sample's gaps: wider neighbourhoods through the noise may close either.
+  const bool holes_uncertain = options.topology == Topology::Disc &&
+                               (options.smoothing != PointSmoothing::IfNoisy ||
+                                result.report.noise.noise_ratio > max_disc_noise_ratio);
+  if (!wider_may_help || cancelled || options.radius > 0.0 || holes_uncertain)
     return result;
   return runWithTwiceTheNeighbours (prepared, search, options, std::move (result));
 }

@@ -392,10 +392,12 @@ TEST (DiscPipeline, SmallHolesInNoisyLatticesAndUnevenSamplesAreKept)
       }
       SCOPED_TRACE ("uneven shape " + std::to_string (static_cast<int> (shape)) + " seed " +
                     std::to_string (seed));
-      pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0, 10.0};
-      options.holes = 1;
-      Meshless reconstruction;
-      expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), 1);
+      for (const double uneven : {10.0, 100.0}) {
+        pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0, uneven};
+        options.holes = 1;
+        Meshless reconstruction;
+        expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), 1);
+      }
     }
 }
 
@@ -558,45 +560,30 @@ TEST (DiscPipeline, NoisyOpenSurfacesWithHolesKeepTheirHolesOrAreRefused)
                  "too noisy to tell");
 }
 
-TEST (DiscPipeline, ClusteredOpenSamplesKeepTheirHoleCountOrAreRefused)
+TEST (DiscPipeline, ClusteredOpenSamplesKeepTheirHoleCount)
 {
   // Samples in small dense clusters (a mesh's vertices around long thin
   // triangles): the six nearest are a cluster's own, and the gaps between
   // clusters measured against them looked like holes (cut open, or kept as
-  // walked loops). Every member is one disc with exactly the surface's holes or
-  // refused with an empty mesh, never another hole count; most reconstruct.
-  std::size_t right = 0, members = 0;
+  // walked loops); in clusters of eight on 5,000 points, twelve neighbours left
+  // folds, rims not cut cleanly or no outline, and the run at twice the
+  // neighbours closes those. Every member is one disc with exactly the surface's
+  // holes.
+  const std::pair<std::size_t, std::size_t> clusters_and_sizes[] = {
+      {4u, 2000u}, {6u, 2000u}, {8u, 5000u}};
   for (const auto shape : {SyntheticShape::Disc, SyntheticShape::HeightField})
-    for (const std::size_t cluster : {6u, 8u})
-      for (const std::size_t holes : {0u, 1u})
+    for (const auto& [cluster, size] : clusters_and_sizes)
+      for (const std::size_t holes : {0u, 1u, 3u})
         for (const std::uint32_t seed : {1u, 2u}) {
-          SCOPED_TRACE ("cluster " + std::to_string (cluster) + " holes " +
-                        std::to_string (holes) + " seed " + std::to_string (seed));
-          pcl::meshless::SyntheticCloudOptions options{2000, seed, 0.0};
+          SCOPED_TRACE ("shape " + std::to_string (static_cast<int> (shape)) + " cluster " +
+                        std::to_string (cluster) + " holes " + std::to_string (holes) +
+                        " seed " + std::to_string (seed));
+          pcl::meshless::SyntheticCloudOptions options{size, seed, 0.0};
           options.cluster_size = cluster;
           options.holes = holes;
-          const auto cloud = toCloud (sampleShape (shape, options));
           Meshless reconstruction;
-          reconstruction.setTopology (Meshless::Topology::Disc);
-          reconstruction.setInputCloud (cloud);
-          std::vector<pcl::Vertices> polygons;
-          reconstruction.reconstruct (polygons);
-          ++members;
-          const auto& report = reconstruction.getReport ();
-          if (!report.success) {
-            EXPECT_TRUE (polygons.empty ());
-            continue;
-          }
-          EXPECT_EQ (report.holes, holes) << describe (report.mesh);
-          EXPECT_EQ (report.mesh.boundary_loops, 1 + holes);
-          EXPECT_EQ (report.mesh.euler_characteristic, 1 - static_cast<long> (holes));
-          EXPECT_TRUE (report.mesh.isManifold ()) << describe (report.mesh);
-          EXPECT_TRUE (report.mesh.isOriented ());
-          EXPECT_EQ (report.mesh.unused_vertices, 0u);
-          EXPECT_EQ (report.mesh.self_intersecting_pairs, 0u);
-          right += report.holes == holes ? 1 : 0;
+          expectDiscWithHoles (reconstruction, toCloud (sampleShape (shape, options)), holes);
         }
-  EXPECT_GE (4 * right, 3 * members) << right << " of " << members << " reconstruct";
 }
 
 TEST (DiscPipeline, FaceScanIsOneManifoldDiscThroughEveryPoint)
