@@ -238,7 +238,7 @@ printResult (const Reconstruction& reconstruction, const pcl::PolygonMesh& mesh,
   if (report.smoothed)
     print_warn ("%s: the points lie %.2f of their spacing off surfaces fitted to them "
                 "(median): the mesh runs through their projections, moved by up to %g "
-                "(-smooth off refuses instead)\n",
+                "(-smooth off meshes the points as given or refuses)\n",
                 kTool, report.noise.noise_ratio, report.noise.max_offset);
   if (report.mesh.self_intersecting_pairs > 0)
     print_warn ("%s: %zu pair(s) of triangles intersect in local folds (noisy or thin "

@@ -161,9 +161,10 @@ public:
   }
 
   /** \brief After run (): a run at twice the neighbours may succeed where this one
-    * failed on a graph in one piece (not separate objects): a closed run whose every
-    * base mesh of the class's own failed at genus 0 (no handle seen, no mesh made to
-    * repair), or an open surface's run. */
+    * failed on a graph in one piece (not separate objects; pieces joined count as
+    * one): a closed run whose every base mesh of the class's own failed at genus 0
+    * (no handle seen, no mesh made to repair), or an open surface's run that may be
+    * smoothed (only its noise measurement lets the wider run follow). */
   bool
   widerMayHelp () const
   {
@@ -724,7 +725,8 @@ Conductor::run ()
     if (closed_)
       wider_may_help_ = !routed && !cancelled_ && options_.base_faces.empty () &&
                         report.stats.graph_pieces <= 1 && report.stats.genus == 0;
-    else if (failed_on_the_surface_) {
+    else if (failed_on_the_surface_ && options_.radius == 0.0 &&
+             options_.smoothing == PointSmoothing::IfNoisy) {
       std::vector<pcl::index_t> pieces;
       wider_may_help_ = connectedComponents (symmetricGraph (neighbourhoods_.neighbours,
                                                              static_cast<int> (options_.num_threads)),
@@ -841,15 +843,18 @@ searchAmong (const Points3& points, const ReconstructionOptions& options)
   * fitted over 4k neighbours, then over 6k where that run fails too. The result is
   * the first projections' run that succeeds, else `failed` with the noise measured
   * (or, asked to smooth always, the last run). `cancelled` says whether the progress
-  * callback stopped it. */
+  * callback stopped it, `noise_ratio` what the first fit, which decides, measured
+  * (-1 if none). */
 Reconstruction
 runOnFittedSurfaces (const PreparedPoints& prepared,
                      const NeighbourSearch& search,
                      const ReconstructionOptions& options,
                      Reconstruction failed,
-                     bool& cancelled)
+                     bool& cancelled,
+                     double& noise_ratio)
 {
   cancelled = false;
+  noise_ratio = -1.0;
   const bool always = options.smoothing == PointSmoothing::Always;
   ReconstructionReport& report = failed.report;
   report.num_points = prepared.points.size ();
@@ -875,8 +880,10 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
           prepared.points, wide.neighbours, static_cast<int> (options.num_threads));
       moved.points = std::move (smoothed.points);
       report.noise = smoothed.noise;
-      if (factor == 4)
+      if (factor == 4) {
         first_fit = smoothed.noise;
+        noise_ratio = first_fit.noise_ratio;
+      }
     } // the wide neighbourhoods go before the run
     const double seconds =
         std::chrono::duration<double> (std::chrono::steady_clock::now () - start).count ();
@@ -950,7 +957,8 @@ runWithTwiceTheNeighbours (const PreparedPoints& prepared,
   // Twice the k the run ended on: it may have joined pieces with more already.
   ReconstructionOptions wider = options;
   wider.k = timesNeighbours (2, std::max (options.k, failed.report.neighbours_k));
-  if (static_cast<std::size_t> (wider.k) >= prepared.points.size ())
+  // Neighbourhoods spanning a quarter of the cloud are no longer local.
+  if (4 * static_cast<std::size_t> (wider.k) >= prepared.points.size ())
     return failed;
   Conductor conductor (prepared, search, wider);
   Reconstruction second = conductor.run ();
@@ -962,7 +970,10 @@ runWithTwiceTheNeighbours (const PreparedPoints& prepared,
     report.message = "cancelled by the progress callback";
     return failed;
   }
-  if (!second.report.success) {
+  // A refusal naming the handles the wider run saw is the clearer reason.
+  const bool handles_seen =
+      options.topology == Topology::Sphere && second.report.stats.genus > 0;
+  if (!second.report.success && !handles_seen) {
     report.message += "; so did a run with " + std::to_string (wider.k) + " neighbours";
     return failed;
   }
@@ -983,8 +994,10 @@ reconstruct (const PreparedPoints& prepared,
   if (!result.report.message.empty ())
     return result;
   bool cancelled = false;
+  double noise_ratio = -1.0;
   if (options.smoothing == PointSmoothing::Always && prepared.points.size () >= 4)
-    return runOnFittedSurfaces (prepared, search, options, std::move (result), cancelled);
+    return runOnFittedSurfaces (prepared, search, options, std::move (result), cancelled,
+                                noise_ratio);
   bool failed_on_the_surface = false;
   bool wider_may_help = false;
   {
@@ -996,15 +1009,15 @@ reconstruct (const PreparedPoints& prepared,
   if (result.report.success || !failed_on_the_surface)
     return result;
   if (options.smoothing == PointSmoothing::IfNoisy) {
-    result = runOnFittedSurfaces (prepared, search, options, std::move (result), cancelled);
+    result = runOnFittedSurfaces (prepared, search, options, std::move (result), cancelled,
+                                  noise_ratio);
     if (result.report.success)
       return result;
   }
-  // An open surface only where its noise was measured low enough to tell its holes
-  // from the sample's gaps: wider neighbourhoods through the noise may close either.
-  const bool holes_uncertain = options.topology == Topology::Disc &&
-                               (options.smoothing != PointSmoothing::IfNoisy ||
-                                result.report.noise.noise_ratio > max_disc_noise_ratio);
+  // An open surface only where its noise was measured and found too low to smooth:
+  // wider neighbourhoods through noise may close its holes or the sample's gaps.
+  const bool holes_uncertain =
+      options.topology == Topology::Disc && !(noise_ratio >= 0.0 && noise_ratio < min_noise_ratio);
   if (!wider_may_help || cancelled || options.radius > 0.0 || holes_uncertain)
     return result;
   return runWithTwiceTheNeighbours (prepared, search, options, std::move (result));

@@ -9,6 +9,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <numeric>
 
 namespace {
@@ -109,6 +110,45 @@ TEST (Reconstruct, ClosedSphereThroughEveryPoint)
   EXPECT_EQ (mesh.unused_vertices, 0u);
   EXPECT_GT (mesh.signed_volume, 0.0);
   EXPECT_EQ (search.asked, std::vector<int>{12}); // a clean result asks no k + 2
+}
+
+TEST (Reconstruct, TwiceTheNeighboursWhereEveryBaseMeshFailedInOnePiece)
+{
+  // An ellipsoid in clusters of six: every base mesh fails at 12 neighbours on a
+  // graph in one piece; the call asks for 24 once and closes there, smoothing off.
+  SyntheticCloudOptions clustered;
+  clustered.num_points = 2000;
+  clustered.cluster_size = 6;
+  const PreparedPoints points = prepared (sampleShape (SyntheticShape::Ellipsoid, clustered));
+  CountingSearch search{&points.points, {}};
+  ReconstructionOptions options;
+  options.num_threads = 1;
+  options.smoothing = PointSmoothing::Off;
+  const Reconstruction result = reconstruct (points, search.function (), options);
+  ASSERT_TRUE (result.report.success) << result.report.message;
+  EXPECT_EQ (result.report.neighbours_k, 24);
+  EXPECT_EQ (search.asked, (std::vector<int>{12, 24}));
+  EXPECT_EQ (result.triangles.size (), 2 * points.points.size () - 4);
+  EXPECT_TRUE (checkMesh (points.points, result.triangles).isSphereLike ());
+
+  // An open surface whose noise was not measured (smoothing off) is not widened:
+  // through noise more neighbours may close a hole. Clusters of eight fail at 12.
+  SyntheticCloudOptions open;
+  open.num_points = 5000;
+  open.cluster_size = 8;
+  open.holes = 1;
+  const PreparedPoints disc = prepared (sampleShape (SyntheticShape::Disc, open));
+  CountingSearch disc_search{&disc.points, {}};
+  options.topology = Topology::Disc;
+  const Reconstruction unmeasured = reconstruct (disc, disc_search.function (), options);
+  EXPECT_FALSE (unmeasured.report.success);
+  EXPECT_EQ (std::count (disc_search.asked.begin (), disc_search.asked.end (), 24), 0);
+  options.smoothing = PointSmoothing::IfNoisy;
+  disc_search.asked.clear ();
+  const Reconstruction measured = reconstruct (disc, disc_search.function (), options);
+  ASSERT_TRUE (measured.report.success) << measured.report.message;
+  EXPECT_EQ (measured.report.neighbours_k, 24);
+  EXPECT_EQ (measured.report.holes, 1u);
 }
 
 TEST (Reconstruct, CancelledByTheCallbackFailsEvenWhereTheStageGoesOn)

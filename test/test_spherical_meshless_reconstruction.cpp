@@ -635,7 +635,7 @@ TEST (SphericalMeshlessReconstruction, NoiseAtThePointSpacingGivesAMeshNearerTha
   {
     const auto& report = reconstruction.getReport ();
     ASSERT_TRUE (report.success) << report.message;
-    EXPECT_EQ (report.neighbours_k, 24u);
+    EXPECT_EQ (report.neighbours_k, 24);
     EXPECT_FALSE (report.smoothed);
     EXPECT_TRUE (report.mesh.isSphereLike ()) << pcl::meshless::describe (report.mesh);
     EXPECT_EQ (report.mesh.self_intersecting_pairs, 0u);

@@ -284,7 +284,12 @@ public:
     * PCL_WARN, and the output cloud holds the moved positions (getVertexCloud ()).
     * In disc mode only up to meshless::max_disc_noise_ratio: noisier, a hole's rim
     * can be missed on the projections. Off: always through the points as given.
-    * Always: a smoothed mesh of any cloud, disc mode too. */
+    * Always: a smoothed mesh of any cloud, disc mode too.
+    * Where the run failed on a graph in one piece and no smoothed run succeeded, the
+    * call runs once more at twice the k (getReport ().neighbours_k): closed
+    * topologies where every base mesh failed at genus 0 (with IfNoisy or Off); open
+    * surfaces only with IfNoisy and noise measured below meshless::min_noise_ratio.
+    * Not with Always nor with a search radius. */
   inline void
   setPointSmoothing (PointSmoothing smoothing)
   {

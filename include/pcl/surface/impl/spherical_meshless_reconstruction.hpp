@@ -168,8 +168,8 @@ SphericalMeshlessReconstruction<PointInT>::triangulate (std::vector<pcl::Vertice
     vertex_cloud_ = moved;
     PCL_WARN ("[pcl::%s::reconstruct] the points lie %.2f of their spacing off the surfaces "
               "fitted to them (median): the mesh runs through their projections onto those "
-              "surfaces, moved by up to %g (getVertexCloud; setPointSmoothing (Off) to "
-              "refuse instead)\n",
+              "surfaces, moved by up to %g (getVertexCloud; setPointSmoothing (Off) to mesh "
+              "the points as given or refuse)\n",
               getClassName ().c_str (), report_.noise.noise_ratio, report_.noise.max_offset);
   }
   // Output triangles refer to the input's indices.

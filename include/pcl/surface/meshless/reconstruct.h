@@ -124,8 +124,9 @@ struct ReconstructionReport
   bool base_retry_kept = false;
   /** \brief The k of the neighbourhoods the result came from: the given one; two,
     * three or four times it where the given one's graph fell into pieces of one
-    * closed surface; twice it where a closed surface's regions grew only there; two
-    * more where folds were left (0 with a search radius). */
+    * closed surface; twice it where a closed surface's regions grew only there; twice
+    * the k a failed run ended on where it failed in one piece (see
+    * setPointSmoothing); two more where folds were left (0 with a search radius). */
   int neighbours_k = 0;
   /** \brief The edge-swap optimization (when enabled). */
   EdgeSwapResult optimization;
