@@ -638,6 +638,7 @@ triangulateDisc (const Points3& points,
   graphs.weights = options.weights;
   graphs.num_threads = options.num_threads;
   const SurfaceGraphs surface = buildSurfaceGraphs (points, neighbourhoods, graphs);
+  result.graph_pieces = surface.pieces;
   if (!surface.success) {
     result.message = surface.message;
     return result;

@@ -163,8 +163,8 @@ public:
   /** \brief After run (): a run at twice the neighbours may succeed where this one
     * failed on a graph in one piece (not separate objects; pieces joined count as
     * one): a closed run whose every base mesh of the class's own failed at genus 0
-    * (no handle seen, no mesh made to repair), or an open surface's run that may be
-    * smoothed (only its noise measurement lets the wider run follow). */
+    * (no handle seen, no mesh made to repair), or an open surface's run. Whether it
+    * is made (noise, search radius) is reconstruct ()'s to decide. */
   bool
   widerMayHelp () const
   {
@@ -560,6 +560,7 @@ Conductor::firstDiscRun ()
   options.num_threads = static_cast<int> (options_.num_threads);
   options.progress = record_;
   DiscTriangulation disc = triangulateDisc (points_, neighbourhoods_.neighbours, options);
+  result_.report.stats.graph_pieces = disc.graph_pieces;
   if (!disc.success)
     return fail ("the disc reconstruction failed: " + disc.message);
   result_.report.holes = disc.holes;
@@ -722,16 +723,9 @@ Conductor::run ()
       finishAndRetry ();
     failed_on_the_surface_ = !report.success && !cancelled_ &&
                              !(options_.topology == Topology::Sphere && report.stats.genus > 0);
-    if (closed_)
-      wider_may_help_ = !routed && !cancelled_ && options_.base_faces.empty () &&
-                        report.stats.graph_pieces <= 1 && report.stats.genus == 0;
-    else if (failed_on_the_surface_ && options_.radius == 0.0 &&
-             options_.smoothing == PointSmoothing::IfNoisy) {
-      std::vector<pcl::index_t> pieces;
-      wider_may_help_ = connectedComponents (symmetricGraph (neighbourhoods_.neighbours,
-                                                             static_cast<int> (options_.num_threads)),
-                                             pieces) == 1;
-    }
+    wider_may_help_ = failed_on_the_surface_ && report.stats.graph_pieces == 1 &&
+                      (!closed_ || (!routed && options_.base_faces.empty () &&
+                                    report.stats.genus == 0));
   }
   return take ();
 }

@@ -107,6 +107,9 @@ struct DiscTriangulation : StageStatus
   /** \brief The consistently oriented normals the rings turn around, one per
     * point; the triangles are oriented with them. */
   std::vector<Eigen::Vector3f> normals;
+  /** \brief Connected components of the neighbourhood graph (more than one: the
+    * run failed before any boundary was looked for; 0 if it stopped earlier). */
+  std::size_t graph_pieces = 0;
 };
 
 /** \brief Floater-Reimers for an open surface with one outer boundary: graph,
