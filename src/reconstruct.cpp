@@ -163,8 +163,9 @@ public:
   /** \brief After run (): a run at twice the neighbours may succeed where this one
     * failed on a graph in one piece (not separate objects; pieces joined count as
     * one): a closed run whose every base mesh of the class's own failed at genus 0
-    * (no handle seen, no mesh made to repair), or an open surface's run. Whether it
-    * is made (noise, search radius) is reconstruct ()'s to decide. */
+    * (no handle seen, no mesh made to repair), a sphere's run refused for the folds
+    * its repair left, or an open surface's run. Whether it is made (noise, search
+    * radius) is reconstruct ()'s to decide. */
   bool
   widerMayHelp () const
   {
@@ -248,6 +249,7 @@ private:
   bool handles_seen_ = false;   // by the polyhedra's check, where no D of that genus grew
   bool failed_on_the_surface_ = false;
   bool wider_may_help_ = false;
+  bool folds_left_ = false; // refused for intersecting pairs the repair left
 };
 
 bool
@@ -684,7 +686,8 @@ Conductor::finalVerdict ()
   if (report.mesh.self_intersecting_pairs > 0 &&
       !finisher_.repairWithLongerRuns (result_.triangles, result_.normals, report))
     return fail ("cancelled by the progress callback");
-  if (report.mesh.self_intersecting_pairs > 0 && !options_.allow_self_intersections)
+  folds_left_ = report.mesh.self_intersecting_pairs > 0 && !options_.allow_self_intersections;
+  if (folds_left_)
     return fail (std::to_string (report.mesh.self_intersecting_pairs) +
                  " pair(s) of triangles still intersect each other " +
                  (report.fold_repair.tangle
@@ -723,8 +726,11 @@ Conductor::run ()
       finishAndRetry ();
     failed_on_the_surface_ = !report.success && !cancelled_ &&
                              !(options_.topology == Topology::Sphere && report.stats.genus > 0);
+    // Folds left in a sphere's mesh too: a closed run of unknown genus might find a
+    // handle through neighbourhoods that bridge two sheets.
+    const bool sphere_folds = options_.topology == Topology::Sphere && folds_left_;
     wider_may_help_ = failed_on_the_surface_ && report.stats.graph_pieces == 1 &&
-                      (!closed_ || (!routed && options_.base_faces.empty () &&
+                      (!closed_ || ((!routed || sphere_folds) && options_.base_faces.empty () &&
                                     report.stats.genus == 0));
   }
   return take ();
@@ -937,10 +943,10 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
   * (Conductor::widerMayHelp) and the smoothing did not help: where the k nearest of
   * a point lie on one side of it (small clusters, a sparse sample of a curved part,
   * density falling off steeply) its ring stays open and its weights are the
-  * fallback's: closed runs find no room for their paths, open ones fold or cannot
-  * cut their holes out. Twice as many close such rings. After the smoothing, so
-  * that noise at the spacing is meshed through fitted surfaces rather than through
-  * wider neighbourhoods of its swings. The result is that run if it succeeds, else
+  * fallback's: closed runs find no room for their paths or keep folds, open ones
+  * fold or cannot cut their holes out. Twice as many close such rings. After the
+  * smoothing, so that noise at the spacing is meshed through fitted surfaces rather
+  * than through wider neighbourhoods of its swings. The result is that run if it succeeds, else
   * `failed` saying so. */
 Reconstruction
 runWithTwiceTheNeighbours (const PreparedPoints& prepared,

@@ -287,8 +287,9 @@ public:
     * Always: a smoothed mesh of any cloud, disc mode too.
     * Where the run failed on a graph in one piece and no smoothed run succeeded, the
     * call runs once more at twice the k (getReport ().neighbours_k): closed
-    * topologies where every base mesh failed at genus 0 (with IfNoisy or Off); open
-    * surfaces only with IfNoisy and noise measured below meshless::min_noise_ratio.
+    * topologies where every base mesh failed at genus 0, and the sphere topology
+    * where the repair left folds too (with IfNoisy or Off); open surfaces only with
+    * IfNoisy and noise measured below meshless::min_noise_ratio.
     * Not with Always nor with a search radius. */
   inline void
   setPointSmoothing (PointSmoothing smoothing)
