@@ -163,9 +163,9 @@ public:
   /** \brief After run (): a run at twice the neighbours may succeed where this one
     * failed on a graph in one piece (not separate objects; pieces joined count as
     * one): a closed run whose every base mesh of the class's own failed at genus 0
-    * (no handle seen, no mesh made to repair), a sphere's run refused for the folds
-    * its repair left, or an open surface's run. Whether it is made (noise, search
-    * radius) is reconstruct ()'s to decide. */
+    * (no handle seen, no mesh made to repair), a sphere's run on the class's own
+    * base meshes refused for the folds its repair left, or an open surface's run.
+    * Whether it is made (noise, search radius) is reconstruct ()'s to decide. */
   bool
   widerMayHelp () const
   {
@@ -726,8 +726,9 @@ Conductor::run ()
       finishAndRetry ();
     failed_on_the_surface_ = !report.success && !cancelled_ &&
                              !(options_.topology == Topology::Sphere && report.stats.genus > 0);
-    // Folds left in a sphere's mesh too: a closed run of unknown genus might find a
-    // handle through neighbourhoods that bridge two sheets.
+    // Also a sphere's run refused for the folds its repair left. Not the closed
+    // topology's: its wider run finds the genus again, and neighbourhoods that
+    // bridge two sheets could give it a handle.
     const bool sphere_folds = options_.topology == Topology::Sphere && folds_left_;
     wider_may_help_ = failed_on_the_surface_ && report.stats.graph_pieces == 1 &&
                       (!closed_ || ((!routed || sphere_folds) && options_.base_faces.empty () &&
@@ -954,7 +955,8 @@ runWithTwiceTheNeighbours (const PreparedPoints& prepared,
                            const ReconstructionOptions& options,
                            Reconstruction failed)
 {
-  // Twice the k the run ended on: it may have joined pieces with more already.
+  // Twice the k the run ended on: it may have joined pieces with more already, or
+  // kept a retry's k + 2.
   ReconstructionOptions wider = options;
   wider.k = timesNeighbours (2, std::max (options.k, failed.report.neighbours_k));
   // Neighbourhoods spanning a quarter of the cloud are no longer local.

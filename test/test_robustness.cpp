@@ -573,7 +573,7 @@ TEST (Robustness, RingsOpenInSmallClustersCloseWithMoreNeighbours)
   EXPECT_GT (widened, 0u) << "no member needed more neighbours: the test lost its subject";
 }
 
-TEST (Robustness, FoldsLeftInClustersGoWithMoreNeighbours)
+TEST (Robustness, FoldsLeftInClustersCloseWithMoreNeighbours)
 {
   // Clusters of four on 20,000 points of the long ellipsoid: where the rings close
   // at k, some member can still keep a fold or two after the repair, the retries
