@@ -947,8 +947,8 @@ runOnFittedSurfaces (const PreparedPoints& prepared,
   * fallback's: closed runs find no room for their paths or keep folds, open ones
   * fold or cannot cut their holes out. Twice as many close such rings. After the
   * smoothing, so that noise at the spacing is meshed through fitted surfaces rather
-  * than through wider neighbourhoods of its swings. The result is that run if it succeeds, else
-  * `failed` saying so. */
+  * than through wider neighbourhoods of its swings. The result is that run if it
+  * succeeds, else `failed` saying so. */
 Reconstruction
 runWithTwiceTheNeighbours (const PreparedPoints& prepared,
                            const NeighbourSearch& search,
