@@ -726,13 +726,15 @@ Conductor::run ()
       finishAndRetry ();
     failed_on_the_surface_ = !report.success && !cancelled_ &&
                              !(options_.topology == Topology::Sphere && report.stats.genus > 0);
-    // Also a sphere's run refused for the folds its repair left. Not the closed
-    // topology's: its wider run finds the genus again, and neighbourhoods that
-    // bridge two sheets could give it a handle.
+    // A closed run where every base mesh of the class's own failed at genus 0, or a
+    // sphere's run refused for the folds its repair left. Not the closed topology's
+    // folds: its wider run finds the genus again, and neighbourhoods that bridge two
+    // sheets could give it a handle.
     const bool sphere_folds = options_.topology == Topology::Sphere && folds_left_;
+    const bool closed_may_widen = (!routed || sphere_folds) && options_.base_faces.empty () &&
+                                  report.stats.genus == 0;
     wider_may_help_ = failed_on_the_surface_ && report.stats.graph_pieces == 1 &&
-                      (!closed_ || ((!routed || sphere_folds) && options_.base_faces.empty () &&
-                                    report.stats.genus == 0));
+                      (!closed_ || closed_may_widen);
   }
   return take ();
 }
