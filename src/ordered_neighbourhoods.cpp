@@ -9,6 +9,8 @@
 #include "common/spacing.h"
 #include "common/threads.h"
 
+#include <Eigen/Eigenvalues>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -110,6 +112,60 @@ weightedLeastSquaresNormal (const Points3& points,
   if (!(total > 0.0))
     return Eigen::Vector3d::Zero ();
   return normalOfMoments (sum, outer, total);
+}
+
+Eigen::Vector3d
+sphereThroughPointNormal (const Points3& points,
+                          pcl::index_t centre,
+                          const pcl::index_t* begin,
+                          const pcl::index_t* end,
+                          double width)
+{
+  const std::ptrdiff_t count = end - begin;
+  if (count < 3)
+    return Eigen::Vector3d::Zero ();
+  const Eigen::Vector3d& origin = points[centre];
+  double sigma = 0.0;
+  if (width > 0.0) {
+    std::vector<double> scratch;
+    sigma = width * nearestSpacing (points, centre, begin, end, scratch);
+    if (!(sigma > 0.0) || !std::isfinite (sigma))
+      return Eigen::Vector3d::Zero ();
+  }
+  // Offsets in units of the largest keep the fourth powers within float's range.
+  double scale = 0.0;
+  for (const pcl::index_t* w = begin; w != end; ++w)
+    scale = std::max (scale, (points[*w] - origin).norm ());
+  if (!(scale > 0.0) || !std::isfinite (scale))
+    return Eigen::Vector3d::Zero ();
+  Eigen::Matrix3d second = Eigen::Matrix3d::Zero ();
+  Eigen::Vector3d lifted = Eigen::Vector3d::Zero ();
+  double fourth = 0.0;
+  for (const pcl::index_t* w = begin; w != end; ++w) {
+    const Eigen::Vector3d d = points[*w] - origin;
+    double weight = 1.0;
+    if (sigma > 0.0) {
+      const double ratio = d.norm () / sigma;
+      weight = std::exp (-ratio * ratio);
+    }
+    const Eigen::Vector3d u = d / scale;
+    const double squared = u.squaredNorm ();
+    second += weight * u * u.transpose ();
+    lifted += weight * squared * u;
+    fourth += weight * squared * squared;
+  }
+  if (!(fourth > 0.0))
+    return Eigen::Vector3d::Zero ();
+  const Eigen::Matrix3d form = second - lifted * lifted.transpose () / fourth;
+  const double trace = form.trace ();
+  if (!(trace > 0.0))
+    return Eigen::Vector3d::Zero ();
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen (form / trace);
+  const Eigen::Vector3d normal = eigen.eigenvectors ().col (0);
+  const double length = normal.norm ();
+  if (eigen.info () != Eigen::Success || !(length > 0.0) || !std::isfinite (length))
+    return Eigen::Vector3d::Zero ();
+  return normal / length;
 }
 
 void
@@ -243,6 +299,7 @@ orderNeighbourhoods (const Points3& points,
                                     pi / 180.0);
   const bool drop_steep = options.max_neighbour_elevation_deg < 90.0;
   const bool weighted = options.plane_weight_width > 0.0;
+  const bool sphere = options.fit == NormalFit::SphereThroughPoint;
 
 #pragma omp parallel num_threads(threadCount (options.num_threads))
   {
@@ -256,6 +313,8 @@ orderNeighbourhoods (const Points3& points,
       const pcl::index_t* end = candidates.end (v);
       const bool with_centre = options.plane == LocalPlane::ProjectOntoFit;
       const auto planeNormal = [&] (const pcl::index_t* from, const pcl::index_t* to) {
+        if (sphere)
+          return sphereThroughPointNormal (points, v, from, to, options.plane_weight_width);
         return weighted ? weightedLeastSquaresNormal (points, v, from, to, with_centre,
                                                       options.plane_weight_width)
                         : leastSquaresNormal (points, v, from, to, with_centre);

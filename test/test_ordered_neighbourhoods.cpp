@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <numeric>
 #include <random>
 
 using namespace pcl::meshless;
@@ -245,6 +246,30 @@ pointsOnAPlane (std::uint32_t seed, const Eigen::Vector3d& n, std::vector<pcl::i
   return points;
 }
 
+/** The points on the generated thin limbs' rods (away from the body and the tips)
+  * whose normal is more than 45 degrees off the rod's radial direction; `on_rods`
+  * counts the points looked at. */
+std::size_t
+normalsOffTheRods (const Points3& points, const OrderedNeighbourhoods& ordered,
+                   std::size_t& on_rods)
+{
+  std::size_t off = 0;
+  on_rods = 0;
+  for (std::size_t v = 0; v < points.size (); ++v) {
+    // The rods leave the ball of radius 0.5 along the axes and end at 1.5.
+    Eigen::Index axis;
+    const double along = points[v].cwiseAbs ().maxCoeff (&axis);
+    if (points[v].norm () < 0.75 || along > 1.45)
+      continue;
+    ++on_rods;
+    Eigen::Vector3d radial = points[v];
+    radial[axis] = 0.0;
+    off += std::abs (ordered.normals[v].cast<double> ().dot (radial.normalized ())) <
+           std::cos (pi / 4.0);
+  }
+  return off;
+}
+
 } // namespace
 
 TEST (OrderedNeighbourhoods, LeastSquaresNormalOfAPlane)
@@ -311,6 +336,63 @@ TEST (OrderedNeighbourhoods, WeightedNormalOfAPlaneIsItsNormal)
   EXPECT_TRUE (weightedLeastSquaresNormal (points, 0, begin, end, true, 0.0).isZero ());
 }
 
+TEST (OrderedNeighbourhoods, SphereThroughAPointHasTheSpheresNormalThereAndAPlanesOnAPlane)
+{
+  const Eigen::Vector3d n = Eigen::Vector3d (0.6, 0.1, -0.7).normalized ();
+  std::vector<pcl::index_t> others;
+  const Points3 flat = pointsOnAPlane (3, n, others);
+  const pcl::index_t* begin = others.data ();
+  const pcl::index_t* end = begin + others.size ();
+  for (const double width : {0.0, 0.8}) {
+    EXPECT_NEAR (std::abs (sphereThroughPointNormal (flat, 0, begin, end, width).dot (n)), 1.0,
+                 1e-6);
+    EXPECT_TRUE (sphereThroughPointNormal (flat, 0, begin, begin + 2, width).isZero ());
+  }
+  // The top of a sphere of radius 1e-3 about (0, 0, -1e-3) and points around it on
+  // the sphere, up to 70 degrees away: the normal fitted at the top is z.
+  Points3 cap (1, Eigen::Vector3d::Zero ());
+  std::mt19937 random (4);
+  std::uniform_real_distribution<double> angle (-1.2, 1.2);
+  for (int i = 0; i < 40; ++i) {
+    const double polar = std::abs (angle (random)), azimuth = 2.6 * angle (random);
+    cap.emplace_back (1e-3 * Eigen::Vector3d (std::sin (polar) * std::cos (azimuth),
+                                              std::sin (polar) * std::sin (azimuth),
+                                              std::cos (polar) - 1.0));
+  }
+  std::vector<pcl::index_t> rest (cap.size () - 1);
+  std::iota (rest.begin (), rest.end (), 1);
+  for (const double width : {0.0, 0.8}) {
+    const Eigen::Vector3d fit =
+        sphereThroughPointNormal (cap, 0, rest.data (), rest.data () + rest.size (), width);
+    EXPECT_NEAR (std::abs (fit.z ()), 1.0, 1e-6);
+  }
+}
+
+TEST (OrderedNeighbourhoods, RodsFourPointsAroundKeepTheirNormalsWithASphereFit)
+{
+  // Generated limbs about four points around: even a weighted plane fitted there
+  // takes the rod's slice for a good share of its points; a sphere through the
+  // point bends with the rod.
+  for (const std::uint32_t seed : {1u, 2u, 3u}) {
+    SCOPED_TRACE ("seed " + std::to_string (seed));
+    const Points3 points = sampleShape (SyntheticShape::ThinLimbs, {1000, seed, 0.0});
+    const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
+    OrderingOptions near_side;
+    near_side.max_neighbour_elevation_deg = 50.0;
+    near_side.plane_weight_width = 0.8;
+    std::size_t on_rods = 0;
+    const OrderedNeighbourhoods plane = orderNeighbourhoods (points, graph, near_side);
+    ASSERT_TRUE (plane.success);
+    const std::size_t off_plane = normalsOffTheRods (points, plane, on_rods);
+    near_side.fit = NormalFit::SphereThroughPoint;
+    const OrderedNeighbourhoods sphere = orderNeighbourhoods (points, graph, near_side);
+    ASSERT_TRUE (sphere.success);
+    const std::size_t off_sphere = normalsOffTheRods (points, sphere, on_rods);
+    EXPECT_GT (off_plane, on_rods / 5) << "the rods are meant to be that thin";
+    EXPECT_LT (off_sphere, on_rods / 40);
+  }
+}
+
 TEST (OrderedNeighbourhoods, RodsFivePointsAroundNeedAWeightedPlaneForTheirNearSide)
 {
   // Generated limbs five to six points around: twelve neighbours span the rod, and
@@ -322,32 +404,16 @@ TEST (OrderedNeighbourhoods, RodsFivePointsAroundNeedAWeightedPlaneForTheirNearS
       SCOPED_TRACE (std::to_string (n) + " points, seed " + std::to_string (seed));
       const Points3 points = sampleShape (SyntheticShape::ThinLimbs, {n, seed, 0.0});
       const CsrGraph graph = meshless_test::bruteForceKnnGraph (points, 12);
-      const auto offRadial = [&] (const OrderedNeighbourhoods& ordered, std::size_t& on_rods) {
-        std::size_t off = 0;
-        on_rods = 0;
-        for (std::size_t v = 0; v < points.size (); ++v) {
-          // The rods leave the ball of radius 0.5 along the axes and end at 1.5.
-          Eigen::Index axis;
-          const double along = points[v].cwiseAbs ().maxCoeff (&axis);
-          if (points[v].norm () < 0.75 || along > 1.45)
-            continue;
-          ++on_rods;
-          Eigen::Vector3d radial = points[v];
-          radial[axis] = 0.0;
-          off += std::abs (ordered.normals[v].cast<double> ().dot (radial.normalized ())) <
-                 std::cos (pi / 4.0);
-        }
-        return off;
-      };
       OrderingOptions near_side;
       near_side.max_neighbour_elevation_deg = 50.0;
       std::size_t on_rods = 0;
       const OrderedNeighbourhoods plain = orderNeighbourhoods (points, graph, near_side);
       ASSERT_TRUE (plain.success);
-      EXPECT_GT (offRadial (plain, on_rods), on_rods / 8) << "the rods are meant to be that thin";
+      EXPECT_GT (normalsOffTheRods (points, plain, on_rods), on_rods / 8)
+          << "the rods are meant to be that thin";
       near_side.plane_weight_width = 0.8;
       const OrderedNeighbourhoods weighted = orderNeighbourhoods (points, graph, near_side);
       ASSERT_TRUE (weighted.success);
-      EXPECT_LT (offRadial (weighted, on_rods), on_rods / 40);
+      EXPECT_LT (normalsOffTheRods (points, weighted, on_rods), on_rods / 40);
     }
 }

@@ -20,6 +20,17 @@ enum class LocalPlane
   RotateIntoFit
 };
 
+/** \brief What the normal of a point's ring is fitted to. */
+enum class NormalFit
+{
+  /** The plane of least squares (the one pcl::NormalEstimation fits). */
+  Plane,
+  /** A sphere through the point (sphereThroughPointNormal). Around a part only a few
+    * points across, a plane fitted to the neighbourhood takes the part's slice; a
+    * sphere bends with the part and keeps its tangent plane. */
+  SphereThroughPoint
+};
+
 struct OrderingOptions
 {
   /** \brief Default: LocalPlane::ProjectOntoFit. */
@@ -39,6 +50,8 @@ struct OrderingOptions
     * spacing fit the near side. 0 or less: unweighted, as pcl::NormalEstimation
     * (leastSquaresNormal). Default 0. */
   double plane_weight_width = 0.0;
+  /** \brief The fit of the normals (the same weights). Default NormalFit::Plane. */
+  NormalFit fit = NormalFit::Plane;
   /** \brief Threads ordering the rings (0 = all cores). The rings do not depend on
     * it. Default 0. */
   int num_threads = 0;
@@ -91,6 +104,21 @@ weightedLeastSquaresNormal (const Points3& points,
                             const pcl::index_t* end,
                             bool include_centre,
                             double width);
+
+/** \brief Unit normal at v of the sphere (or plane) through v fitted to the given
+  * points by algebraic distance: the smallest eigenvector of M - m m^T / s, with M,
+  * m and s the weighted sums of d d^T, |d|^2 d and |d|^4 over the points' offsets d
+  * from v. Weighted as weightedLeastSquaresNormal when width is positive, evenly
+  * otherwise.
+  * \return the unit normal, or zero if fewer than three points are given or they
+  *         coincide with v
+  */
+Eigen::Vector3d
+sphereThroughPointNormal (const Points3& points,
+                          pcl::index_t centre,
+                          const pcl::index_t* begin,
+                          const pcl::index_t* end,
+                          double width);
 
 /** \brief Coordinates of the neighbours of v in the plane through v with the given
   * normal, relative to v, in a right-handed frame (e1, e2, normal).

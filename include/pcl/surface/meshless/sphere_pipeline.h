@@ -81,6 +81,8 @@ struct SpherePipelineOptions
   /** \brief Gaussian weights on the rings' plane fits (OrderingOptions). Default 0:
     * unweighted. */
   double plane_weight_width = 0.0;
+  /** \brief The rings' normal fit (OrderingOptions). Default NormalFit::Plane. */
+  NormalFit fit = NormalFit::Plane;
   SolveOptions solve;
   /** \brief The edge swaps' angle pass inside each patch, in parallel with the
     * other patches' solves (flipFlatEdgesInPatch). Default: off; the class turns it
