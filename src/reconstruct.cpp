@@ -538,20 +538,28 @@ Conductor::ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTrian
       !options_.check_self_intersections)
     return;
   clock_.restart ();
-  const SpherePipelineOptions near_side = nearSideOptions (options);
-  SphereTriangulation again = triangulateSphere (points_, neighbourhoods_.neighbours, near_side);
-  const bool presumed = genus_presumed_;
-  polyhedraWhereNoGenus (near_side, again);
-  if (cancelled_ || !again.success || handles_seen_ ||
-      finisher_.turnsBackUnrepaired (again.triangles, again.normals)) {
-    genus_presumed_ = presumed;
+  for (const NormalFit fit : near_side_fits) {
+    const SpherePipelineOptions near_side = nearSideOptions (options, fit);
+    SphereTriangulation again = triangulateSphere (points_, neighbourhoods_.neighbours, near_side);
+    const bool presumed = genus_presumed_;
+    polyhedraWhereNoGenus (near_side, again);
+    if (cancelled_ || handles_seen_) {
+      genus_presumed_ = presumed;
+      return;
+    }
+    if (!again.success || finisher_.turnsBackUnrepaired (again.triangles, again.normals)) {
+      genus_presumed_ = presumed;
+      continue;
+    }
+    first = std::move (again);
+    first_options_.max_neighbour_elevation_deg = near_side.max_neighbour_elevation_deg;
+    first_options_.plane_weight_width = near_side.plane_weight_width;
+    first_options_.fit = near_side.fit;
+    result_.report.near_side_rings = true;
+    result_.report.near_side_sphere_fit = fit == NormalFit::SphereThroughPoint;
+    clock_.done ("near side", 0.35, "rings of the near side only: every base mesh failed on the rings as ordered");
     return;
   }
-  first = std::move (again);
-  first_options_.max_neighbour_elevation_deg = near_side.max_neighbour_elevation_deg;
-  first_options_.plane_weight_width = near_side.plane_weight_width;
-  result_.report.near_side_rings = true;
-  clock_.done ("near side", 0.35, "rings of the near side only: every base mesh failed on the rings as ordered");
 }
 
 bool

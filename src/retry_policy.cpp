@@ -15,10 +15,11 @@ namespace pcl {
 namespace meshless {
 
 SpherePipelineOptions
-nearSideOptions (SpherePipelineOptions options)
+nearSideOptions (SpherePipelineOptions options, NormalFit fit)
 {
   options.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
   options.plane_weight_width = plane_weight_width_on_retry;
+  options.fit = fit;
   return options;
 }
 
@@ -345,6 +346,7 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
     current_.normals = std::move (other.normals);
     current_.report.stats = other.stats;
     current_.report.near_side_rings = options.max_neighbour_elevation_deg < 90.0;
+    current_.report.near_side_sphere_fit = options.fit == NormalFit::SphereThroughPoint;
     if (denser_)
       current_.report.neighbours_k = denser_k_;
     current_.adopt (std::move (finished));
@@ -411,10 +413,14 @@ RetryPolicy::tryNearSide (const SpherePipelineOptions& options)
       near_side_tried_)
     return;
   near_side_tried_ = true; // once: not again on k + 2 neighbours
-  SpherePipelineOptions near_side = nearSideOptions (options);
-  near_side.first_attempt = 0;
-  bool kept = false;
-  tryAnother (near_side, kept, nullptr, RawCheck::MustNotTurnBack);
+  for (const NormalFit fit : near_side_fits) {
+    if (current_.report.mesh.self_intersecting_pairs == 0)
+      return;
+    SpherePipelineOptions near_side = nearSideOptions (options, fit);
+    near_side.first_attempt = 0;
+    bool kept = false;
+    tryAnother (near_side, kept, nullptr, RawCheck::MustNotTurnBack);
+  }
 }
 
 bool

@@ -26,9 +26,15 @@ constexpr double max_neighbour_elevation_on_retry = 50.0;
   * plane that the near side carries, not one that stands across the part. */
 constexpr double plane_weight_width_on_retry = 0.8;
 
-/** \brief `options` for a run on rings of the near side only. */
+/** \brief The normal fits a run on the near side's rings tries, in order: the
+  * weighted plane, then a sphere through the point, which keeps the tangent plane
+  * of a part only four or five points around where a plane takes the part's slice
+  * (a sphere may fold where a plane did not, so it comes second). */
+constexpr NormalFit near_side_fits[] = {NormalFit::Plane, NormalFit::SphereThroughPoint};
+
+/** \brief `options` for a run on rings of the near side only, fitted by `fit`. */
 SpherePipelineOptions
-nearSideOptions (SpherePipelineOptions options);
+nearSideOptions (SpherePipelineOptions options, NormalFit fit);
 
 /** \brief What finishing did to one triangulation; the report takes it over when
   * that triangulation becomes the result. */
@@ -170,8 +176,9 @@ public:
     * report). */
   bool
   currentTurnsBack ();
-  /** \brief Once per call: a run on rings of the near side only (nearSideOptions),
-    * kept if it does not turn back before its repair and leaves fewer pairs. */
+  /** \brief Once per call: runs on rings of the near side only (nearSideOptions),
+    * one per fit of near_side_fits while pairs are left, each kept if it does not
+    * turn back before its repair and leaves fewer pairs. */
   void
   tryNearSide (const SpherePipelineOptions& options);
 

@@ -419,7 +419,7 @@ TEST (SphericalMeshlessReconstruction, FoldsLeftAreRetriedWithTwoMoreNeighbours)
   // Thin limbs, all points but every fifth (through setIndices), where every
   // base mesh leaves folds with k = 12 and the sequence with k + 2 neighbours
   // ends without any. Retries off: the folds stay.
-  auto cloud = foldingLimbs (5000, 0.001, 1);
+  auto cloud = foldingLimbs (5000, 0.001, 11);
   auto subset = pcl::make_shared<pcl::Indices> ();
   for (std::size_t i = 0; i < cloud->size (); ++i)
     if (i % 5 != 4)
@@ -450,7 +450,7 @@ TEST (SphericalMeshlessReconstruction, PairsLeftFailUnlessAllowed)
   // Thin limbs without retries keep pairs (the first base mesh's result): by
   // default a failure naming them and the setter, with an empty mesh; allowed, the
   // closed mesh with the same count.
-  const auto cloud = foldingLimbs (5000, 0.002, 1);
+  const auto cloud = foldingLimbs (5000, 0.0025, 5);
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
   reconstruction.setInputCloud (cloud);
   EXPECT_FALSE (reconstruction.getAllowSelfIntersections ());
