@@ -132,7 +132,7 @@ sphereThroughPointNormal (const Points3& points,
     if (!(sigma > 0.0) || !std::isfinite (sigma))
       return Eigen::Vector3d::Zero ();
   }
-  // Offsets in units of the largest keep the fourth powers within float's range.
+  // Offsets in units of the largest keep the fourth powers' sums well conditioned.
   double scale = 0.0;
   for (const pcl::index_t* w = begin; w != end; ++w)
     scale = std::max (scale, (points[*w] - origin).norm ());
@@ -299,7 +299,7 @@ orderNeighbourhoods (const Points3& points,
                                     pi / 180.0);
   const bool drop_steep = options.max_neighbour_elevation_deg < 90.0;
   const bool weighted = options.plane_weight_width > 0.0;
-  const bool sphere = options.fit == NormalFit::SphereThroughPoint;
+  const bool sphere = options.normal_fit == NormalFit::SphereThroughPoint;
 
 #pragma omp parallel num_threads(threadCount (options.num_threads))
   {
@@ -313,7 +313,7 @@ orderNeighbourhoods (const Points3& points,
       const pcl::index_t* end = candidates.end (v);
       const bool with_centre = options.plane == LocalPlane::ProjectOntoFit;
       const auto planeNormal = [&] (const pcl::index_t* from, const pcl::index_t* to) {
-        if (sphere)
+        if (sphere && to - from >= min_points_for_sphere_fit)
           return sphereThroughPointNormal (points, v, from, to, options.plane_weight_width);
         return weighted ? weightedLeastSquaresNormal (points, v, from, to, with_centre,
                                                       options.plane_weight_width)

@@ -552,12 +552,13 @@ Conductor::ringsOnTheNearSide (const SpherePipelineOptions& options, SphereTrian
       continue;
     }
     first = std::move (again);
-    first_options_.max_neighbour_elevation_deg = near_side.max_neighbour_elevation_deg;
-    first_options_.plane_weight_width = near_side.plane_weight_width;
-    first_options_.fit = near_side.fit;
+    first_options_ = nearSideOptions (first_options_, fit);
     result_.report.near_side_rings = true;
     result_.report.near_side_sphere_fit = fit == NormalFit::SphereThroughPoint;
-    clock_.done ("near side", 0.35, "rings of the near side only: every base mesh failed on the rings as ordered");
+    clock_.done ("near side", 0.35,
+                 std::string ("rings of the near side only, ") +
+                     (fit == NormalFit::SphereThroughPoint ? "on spheres" : "on planes") +
+                     ": every base mesh failed on the rings as ordered");
     return;
   }
 }

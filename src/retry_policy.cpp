@@ -19,7 +19,7 @@ nearSideOptions (SpherePipelineOptions options, NormalFit fit)
 {
   options.max_neighbour_elevation_deg = max_neighbour_elevation_on_retry;
   options.plane_weight_width = plane_weight_width_on_retry;
-  options.fit = fit;
+  options.normal_fit = fit;
   return options;
 }
 
@@ -346,7 +346,7 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
     current_.normals = std::move (other.normals);
     current_.report.stats = other.stats;
     current_.report.near_side_rings = options.max_neighbour_elevation_deg < 90.0;
-    current_.report.near_side_sphere_fit = options.fit == NormalFit::SphereThroughPoint;
+    current_.report.near_side_sphere_fit = options.normal_fit == NormalFit::SphereThroughPoint;
     if (denser_)
       current_.report.neighbours_k = denser_k_;
     current_.adopt (std::move (finished));
@@ -409,13 +409,16 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
 void
 RetryPolicy::tryNearSide (const SpherePipelineOptions& options)
 {
-  if (options.max_neighbour_elevation_deg < 90.0 || options_.base_retries == 0 ||
-      near_side_tried_)
+  const bool on_the_near_side = options.max_neighbour_elevation_deg < 90.0;
+  if (options_.base_retries == 0 || near_side_tried_ ||
+      (on_the_near_side && options.normal_fit == NormalFit::SphereThroughPoint))
     return;
   near_side_tried_ = true; // once: not again on k + 2 neighbours
   for (const NormalFit fit : near_side_fits) {
     if (current_.report.mesh.self_intersecting_pairs == 0)
       return;
+    if (on_the_near_side && fit == options.normal_fit)
+      continue; // the run retried was this one
     SpherePipelineOptions near_side = nearSideOptions (options, fit);
     near_side.first_attempt = 0;
     bool kept = false;
@@ -464,6 +467,7 @@ RetryPolicy::convexHullFallback ()
       finished.mesh.self_intersecting_pairs == 0) {
     current_.triangles = std::move (hull);
     current_.adopt (std::move (finished));
+    report.near_side_rings = report.near_side_sphere_fit = false;
     clock_.restart ();
     clock_.done ("hull", 1.0, std::to_string (current_.triangles.size ()) + " triangles");
   }

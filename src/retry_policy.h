@@ -177,8 +177,9 @@ public:
   bool
   currentTurnsBack ();
   /** \brief Once per call: runs on rings of the near side only (nearSideOptions),
-    * one per fit of near_side_fits while pairs are left, each kept if it does not
-    * turn back before its repair and leaves fewer pairs. */
+    * one per fit of near_side_fits while pairs are left (after `options`' own fit
+    * if they are the near side's already), each kept if it does not turn back
+    * before its repair and leaves fewer pairs. */
   void
   tryNearSide (const SpherePipelineOptions& options);
 

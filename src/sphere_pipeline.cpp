@@ -131,7 +131,7 @@ private:
     graphs.separate_thin_sheets = options_.separate_thin_sheets;
     graphs.max_neighbour_elevation_deg = options_.max_neighbour_elevation_deg;
     graphs.plane_weight_width = options_.plane_weight_width;
-    graphs.fit = options_.fit;
+    graphs.normal_fit = options_.normal_fit;
     graphs.num_threads = options_.num_threads;
     return graphs;
   }

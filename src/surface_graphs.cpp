@@ -88,7 +88,7 @@ buildSurfaceGraphs (const Points3& points,
   ordering.num_threads = options.num_threads;
   ordering.max_neighbour_elevation_deg = options.max_neighbour_elevation_deg;
   ordering.plane_weight_width = options.plane_weight_width;
-  ordering.fit = options.fit;
+  ordering.normal_fit = options.normal_fit;
   WeightOptions weighting;
   weighting.type = options.weights;
   weighting.num_threads = options.num_threads;

@@ -348,24 +348,26 @@ TEST (OrderedNeighbourhoods, SphereThroughAPointHasTheSpheresNormalThereAndAPlan
                  1e-6);
     EXPECT_TRUE (sphereThroughPointNormal (flat, 0, begin, begin + 2, width).isZero ());
   }
-  // The top of a sphere of radius 1e-3 about (0, 0, -1e-3) and points around it on
-  // the sphere, up to 70 degrees away: the normal fitted at the top is z.
+  // The top of a sphere of radius 1e-3 about (0, 0, -1e-3) and points to one side
+  // of it on the sphere, 35 to 70 degrees away: the sphere's normal at the top is
+  // z, which the plane through them misses.
   Points3 cap (1, Eigen::Vector3d::Zero ());
   std::mt19937 random (4);
-  std::uniform_real_distribution<double> angle (-1.2, 1.2);
+  std::uniform_real_distribution<double> polar (0.6, 1.2), azimuth (-0.5, 0.5);
   for (int i = 0; i < 40; ++i) {
-    const double polar = std::abs (angle (random)), azimuth = 2.6 * angle (random);
-    cap.emplace_back (1e-3 * Eigen::Vector3d (std::sin (polar) * std::cos (azimuth),
-                                              std::sin (polar) * std::sin (azimuth),
-                                              std::cos (polar) - 1.0));
+    const double p = polar (random), a = azimuth (random);
+    cap.emplace_back (1e-3 * Eigen::Vector3d (std::sin (p) * std::cos (a),
+                                              std::sin (p) * std::sin (a), std::cos (p) - 1.0));
   }
   std::vector<pcl::index_t> rest (cap.size () - 1);
   std::iota (rest.begin (), rest.end (), 1);
-  for (const double width : {0.0, 0.8}) {
-    const Eigen::Vector3d fit =
-        sphereThroughPointNormal (cap, 0, rest.data (), rest.data () + rest.size (), width);
-    EXPECT_NEAR (std::abs (fit.z ()), 1.0, 1e-6);
-  }
+  const pcl::index_t* first = rest.data ();
+  const pcl::index_t* last = first + rest.size ();
+  for (const double width : {0.0, 0.8})
+    EXPECT_NEAR (std::abs (sphereThroughPointNormal (cap, 0, first, last, width).z ()), 1.0,
+                 1e-6);
+  EXPECT_LT (std::abs (leastSquaresNormal (cap, 0, first, last, true).z ()),
+             std::cos (10.0 * pi / 180.0));
 }
 
 TEST (OrderedNeighbourhoods, RodsFourPointsAroundKeepTheirNormalsWithASphereFit)
@@ -384,7 +386,7 @@ TEST (OrderedNeighbourhoods, RodsFourPointsAroundKeepTheirNormalsWithASphereFit)
     const OrderedNeighbourhoods plane = orderNeighbourhoods (points, graph, near_side);
     ASSERT_TRUE (plane.success);
     const std::size_t off_plane = normalsOffTheRods (points, plane, on_rods);
-    near_side.fit = NormalFit::SphereThroughPoint;
+    near_side.normal_fit = NormalFit::SphereThroughPoint;
     const OrderedNeighbourhoods sphere = orderNeighbourhoods (points, graph, near_side);
     ASSERT_TRUE (sphere.success);
     const std::size_t off_sphere = normalsOffTheRods (points, sphere, on_rods);

@@ -906,8 +906,8 @@ TEST (Robustness, LimbsUnderFivePointsAroundCloseOnSphereFitsOfTheirNearSide)
   // of their points, and their near side's rings fold. Fitted by spheres
   // through the points they close more members, every one with every invariant
   // (expectContract); the others fail for folds, turning back or paths.
-  const LimbsOutcome limbs = closeThinLimbs ({1200u, 1300u}, {1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u});
-  EXPECT_GE (limbs.closed, 7);
+  const LimbsOutcome limbs = closeThinLimbs ({1250u, 1350u}, {1u, 2u, 3u, 4u, 5u, 6u, 7u, 8u});
+  EXPECT_GE (limbs.closed, 9) << "the planes alone close about half as many";
   EXPECT_GE (limbs.sphere_fit, 4) << "the members planes leave folded close on spheres";
 }
 

@@ -26,10 +26,16 @@ enum class NormalFit
   /** The plane of least squares (the one pcl::NormalEstimation fits). */
   Plane,
   /** A sphere through the point (sphereThroughPointNormal). Around a part only a few
-    * points across, a plane fitted to the neighbourhood takes the part's slice; a
-    * sphere bends with the part and keeps its tangent plane. */
+    * points around, a plane fitted to the neighbourhood takes the part's slice; a
+    * sphere bends with the part and keeps its tangent plane. The sphere passes
+    * through v whatever LocalPlane says (which then only chooses projection or
+    * rotation); fits to fewer than min_points_for_sphere_fit points take the plane:
+    * three and v always lie on one sphere, and four leave one point to spare. */
   SphereThroughPoint
 };
+
+/** \brief The fewest points a sphere is fitted to (NormalFit::SphereThroughPoint). */
+constexpr int min_points_for_sphere_fit = 5;
 
 struct OrderingOptions
 {
@@ -50,8 +56,9 @@ struct OrderingOptions
     * spacing fit the near side. 0 or less: unweighted, as pcl::NormalEstimation
     * (leastSquaresNormal). Default 0. */
   double plane_weight_width = 0.0;
-  /** \brief The fit of the normals (the same weights). Default NormalFit::Plane. */
-  NormalFit fit = NormalFit::Plane;
+  /** \brief What the normals (the fit and the refit) are fitted to, with the
+    * weights of plane_weight_width. Default NormalFit::Plane. */
+  NormalFit normal_fit = NormalFit::Plane;
   /** \brief Threads ordering the rings (0 = all cores). The rings do not depend on
     * it. Default 0. */
   int num_threads = 0;

@@ -116,7 +116,7 @@ struct ReconstructionReport
   bool near_side_rings = false;
   /** \brief With near_side_rings: the rings' normals are those of spheres through
     * the points (NormalFit::SphereThroughPoint); the near side's run on weighted
-    * planes had failed or left more pairs. */
+    * planes had failed, turned back or left more pairs. */
   bool near_side_sphere_fit = false;
   /** \brief On a small cloud (at most max_hull_points points) whose points all lie
     * on their convex hull, the pipeline failed or its mesh intersected itself, and

@@ -82,7 +82,7 @@ struct SpherePipelineOptions
     * unweighted. */
   double plane_weight_width = 0.0;
   /** \brief The rings' normal fit (OrderingOptions). Default NormalFit::Plane. */
-  NormalFit fit = NormalFit::Plane;
+  NormalFit normal_fit = NormalFit::Plane;
   SolveOptions solve;
   /** \brief The edge swaps' angle pass inside each patch, in parallel with the
     * other patches' solves (flipFlatEdgesInPatch). Default: off; the class turns it

@@ -50,8 +50,8 @@ struct SurfaceGraphOptions
   /** \brief OrderingOptions::plane_weight_width of the rings. Default 0: the
     * unweighted plane. */
   double plane_weight_width = 0.0;
-  /** \brief OrderingOptions::fit of the rings. Default NormalFit::Plane. */
-  NormalFit fit = NormalFit::Plane;
+  /** \brief OrderingOptions::normal_fit of the rings. Default NormalFit::Plane. */
+  NormalFit normal_fit = NormalFit::Plane;
   /** \brief Threads for the graph, the rings and the weights (0 = all cores). The
     * result does not depend on it. Default 0. */
   int num_threads = 0;
