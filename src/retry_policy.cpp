@@ -467,7 +467,6 @@ RetryPolicy::convexHullFallback ()
       finished.mesh.self_intersecting_pairs == 0) {
     current_.triangles = std::move (hull);
     current_.adopt (std::move (finished));
-    report.near_side_rings = report.near_side_sphere_fit = false;
     clock_.restart ();
     clock_.done ("hull", 1.0, std::to_string (current_.triangles.size ()) + " triangles");
   }

@@ -31,6 +31,8 @@ constexpr double plane_weight_width_on_retry = 0.8;
   * of a part only four or five points around where a plane takes the part's slice
   * (a sphere may fold where a plane did not, so it comes second). */
 constexpr NormalFit near_side_fits[] = {NormalFit::Plane, NormalFit::SphereThroughPoint};
+// RetryPolicy::tryNearSide tries the fits after a near side's own: the sphere last.
+static_assert (near_side_fits[1] == NormalFit::SphereThroughPoint);
 
 /** \brief `options` for a run on rings of the near side only, fitted by `fit`. */
 SpherePipelineOptions

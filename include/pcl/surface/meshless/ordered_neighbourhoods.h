@@ -29,12 +29,12 @@ enum class NormalFit
     * points around, a plane fitted to the neighbourhood takes the part's slice; a
     * sphere bends with the part and keeps its tangent plane. The sphere passes
     * through v whatever LocalPlane says (which then only chooses projection or
-    * rotation); fits to fewer than min_points_for_sphere_fit points take the plane:
-    * three and v always lie on one sphere, and four leave one point to spare. */
+    * rotation); fits to fewer than min_points_for_sphere_fit neighbours take the
+    * plane: three and v always lie on one sphere, and four leave one to spare. */
   SphereThroughPoint
 };
 
-/** \brief The fewest points a sphere is fitted to (NormalFit::SphereThroughPoint). */
+/** \brief The fewest neighbours a sphere is fitted to (NormalFit::SphereThroughPoint). */
 constexpr int min_points_for_sphere_fit = 5;
 
 struct OrderingOptions
