@@ -35,6 +35,28 @@ planeFrame (const Eigen::Vector3d& n, Eigen::Vector3d& e1, Eigen::Vector3d& e2)
   e2 = n.cross (e1);
 }
 
+/** The Gaussian weights' width about `centre`: `width` times the mean distance to
+  * its six nearest among the given points; 0 where that is not positive or finite. */
+double
+gaussianWidth (const Points3& points,
+               pcl::index_t centre,
+               const pcl::index_t* begin,
+               const pcl::index_t* end,
+               double width)
+{
+  std::vector<double> scratch;
+  const double sigma = width * nearestSpacing (points, centre, begin, end, scratch);
+  return sigma > 0.0 && std::isfinite (sigma) ? sigma : 0.0;
+}
+
+/** exp (-(distance / sigma)^2), the weight of a point at that distance. */
+double
+gaussianWeight (double distance, double sigma)
+{
+  const double ratio = distance / sigma;
+  return std::exp (-ratio * ratio);
+}
+
 /** The normal of the plane of least (weighted) squares from the points' moments
   * about the centre: their weighted sum and sum of outer products, over the total
   * weight. */
@@ -94,17 +116,15 @@ weightedLeastSquaresNormal (const Points3& points,
   if (count + (include_centre ? 1 : 0) < 3 || !(width > 0.0))
     return Eigen::Vector3d::Zero ();
   const Eigen::Vector3d& origin = points[centre];
-  std::vector<double> scratch;
-  const double sigma = width * nearestSpacing (points, centre, begin, end, scratch);
-  if (!(sigma > 0.0) || !std::isfinite (sigma))
+  const double sigma = gaussianWidth (points, centre, begin, end, width);
+  if (sigma == 0.0)
     return Eigen::Vector3d::Zero ();
   Eigen::Vector3d sum = Eigen::Vector3d::Zero ();
   Eigen::Matrix3d outer = Eigen::Matrix3d::Zero ();
   double total = include_centre ? 1.0 : 0.0; // the centre contributes a zero vector
   for (std::ptrdiff_t i = 0; i < count; ++i) {
     const Eigen::Vector3d d = points[begin[i]] - origin;
-    const double ratio = d.norm () / sigma;
-    const double weight = std::exp (-ratio * ratio);
+    const double weight = gaussianWeight (d.norm (), sigma);
     sum += weight * d;
     outer += weight * d * d.transpose ();
     total += weight;
@@ -125,13 +145,9 @@ sphereThroughPointNormal (const Points3& points,
   if (count < 3)
     return Eigen::Vector3d::Zero ();
   const Eigen::Vector3d& origin = points[centre];
-  double sigma = 0.0;
-  if (width > 0.0) {
-    std::vector<double> scratch;
-    sigma = width * nearestSpacing (points, centre, begin, end, scratch);
-    if (!(sigma > 0.0) || !std::isfinite (sigma))
-      return Eigen::Vector3d::Zero ();
-  }
+  const double sigma = width > 0.0 ? gaussianWidth (points, centre, begin, end, width) : 0.0;
+  if (width > 0.0 && sigma == 0.0)
+    return Eigen::Vector3d::Zero ();
   // Offsets in units of the largest keep the fourth powers' sums well conditioned.
   double scale = 0.0;
   for (const pcl::index_t* w = begin; w != end; ++w)
@@ -143,11 +159,7 @@ sphereThroughPointNormal (const Points3& points,
   double fourth = 0.0;
   for (const pcl::index_t* w = begin; w != end; ++w) {
     const Eigen::Vector3d d = points[*w] - origin;
-    double weight = 1.0;
-    if (sigma > 0.0) {
-      const double ratio = d.norm () / sigma;
-      weight = std::exp (-ratio * ratio);
-    }
+    const double weight = sigma > 0.0 ? gaussianWeight (d.norm (), sigma) : 1.0;
     const Eigen::Vector3d u = d / scale;
     const double squared = u.squaredNorm ();
     second += weight * u * u.transpose ();
