@@ -485,6 +485,43 @@ TEST (SphericalMeshlessReconstruction, PairsLeftFailUnlessAllowed)
   EXPECT_NE (report.message.find ("setAllowSelfIntersections"), std::string::npos) << report.message;
 }
 
+TEST (SphericalMeshlessReconstruction, ALimbThePlanesLeaveTurnedBackIsRetriedOnSpheres)
+{
+  // Thin limbs about five points around: every base mesh fails on the rings as
+  // ordered, and the run on the near side's planes is kept, but its mesh turns
+  // back over a limb. The retries run the near side again on spheres through the
+  // points, which close it; without retries the planes' mesh is refused.
+  const auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::ThinLimbs, 1400, 7);
+  pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
+  reconstruction.setInputCloud (cloud);
+  std::vector<std::string> near_side;
+  reconstruction.setProgressCallback ([&] (const pcl::meshless::ProgressReport& r) {
+    if (r.stage == "near side")
+      near_side.push_back (r.detail);
+    return true;
+  });
+  std::vector<pcl::Vertices> polygons;
+  reconstruction.reconstruct (polygons);
+  const auto retried = reconstruction.getReport ();
+  ASSERT_EQ (near_side.size (), 1u) << "the fixture no longer needs the near side: choose another";
+  ASSERT_NE (near_side[0].find ("on planes"), std::string::npos)
+      << near_side[0] << ": the fixture no longer keeps the planes' run first: choose another";
+  ASSERT_TRUE (retried.success) << retried.message;
+  expectClosedGenusZero (polygons, range (retried.num_points));
+  EXPECT_EQ (retried.mesh.self_intersecting_pairs, 0u);
+  EXPECT_TRUE (retried.near_side_rings);
+  EXPECT_TRUE (retried.near_side_sphere_fit) << "the spheres' run replaced the planes'";
+
+  reconstruction.setBaseRetries (0);
+  reconstruction.reconstruct (polygons);
+  const auto& once = reconstruction.getReport ();
+  EXPECT_FALSE (once.success);
+  EXPECT_TRUE (polygons.empty ());
+  EXPECT_FALSE (once.near_side_sphere_fit);
+  EXPECT_NE (once.message.find ("faces against the cloud's normals"), std::string::npos)
+      << once.message;
+}
+
 TEST (SphericalMeshlessReconstruction, RawFoldsAreRepairedBeforeTheSwaps)
 {
   // The 1:1:6 ellipsoid's raw triangulation folds near its tips (its patches
