@@ -485,12 +485,14 @@ TEST (SphericalMeshlessReconstruction, PairsLeftFailUnlessAllowed)
   EXPECT_NE (report.message.find ("setAllowSelfIntersections"), std::string::npos) << report.message;
 }
 
-TEST (SphericalMeshlessReconstruction, ALimbThePlanesLeaveTurnedBackIsRetriedOnSpheres)
+TEST (SphericalMeshlessReconstruction, NearSideRunOnPlanesThatTurnsBackGivesWayToSpheres)
 {
   // Thin limbs about five points around: every base mesh fails on the rings as
-  // ordered, and the run on the near side's planes is kept, but its mesh turns
-  // back over a limb. The retries run the near side again on spheres through the
-  // points, which close it; without retries the planes' mesh is refused.
+  // ordered, and the run on the near side's planes is kept, since its raw mesh
+  // does not turn back; after the swaps and the repair it does. Without retries
+  // that mesh is refused; with them, the near side runs again on spheres through
+  // the points, at once (no other base mesh is tried on a mesh that turns back),
+  // and closes the cloud.
   const auto cloud = generatedCloud<pcl::PointXYZ> (pcl::meshless::SyntheticShape::ThinLimbs, 1400, 7);
   pcl::SphericalMeshlessReconstruction<pcl::PointXYZ> reconstruction;
   reconstruction.setInputCloud (cloud);
@@ -501,25 +503,29 @@ TEST (SphericalMeshlessReconstruction, ALimbThePlanesLeaveTurnedBackIsRetriedOnS
     return true;
   });
   std::vector<pcl::Vertices> polygons;
-  reconstruction.reconstruct (polygons);
-  const auto retried = reconstruction.getReport ();
-  ASSERT_EQ (near_side.size (), 1u) << "the fixture no longer needs the near side: choose another";
-  ASSERT_NE (near_side[0].find ("on planes"), std::string::npos)
-      << near_side[0] << ": the fixture no longer keeps the planes' run first: choose another";
-  ASSERT_TRUE (retried.success) << retried.message;
-  expectClosedGenusZero (polygons, range (retried.num_points));
-  EXPECT_EQ (retried.mesh.self_intersecting_pairs, 0u);
-  EXPECT_TRUE (retried.near_side_rings);
-  EXPECT_TRUE (retried.near_side_sphere_fit) << "the spheres' run replaced the planes'";
-
   reconstruction.setBaseRetries (0);
   reconstruction.reconstruct (polygons);
-  const auto& once = reconstruction.getReport ();
-  EXPECT_FALSE (once.success);
+  const auto once = reconstruction.getReport ();
+  ASSERT_EQ (near_side.size (), 1u) << "the fixture no longer needs the near side: choose another";
+  ASSERT_NE (near_side[0].find ("on planes"), std::string::npos)
+      << near_side[0] << ": the fixture no longer keeps the planes' run: choose another";
+  ASSERT_FALSE (once.success) << "the fixture no longer turns back: choose another";
+  ASSERT_NE (once.message.find ("faces against the cloud's normals"), std::string::npos)
+      << once.message << ": the fixture no longer turns back: choose another";
   EXPECT_TRUE (polygons.empty ());
   EXPECT_FALSE (once.near_side_sphere_fit);
-  EXPECT_NE (once.message.find ("faces against the cloud's normals"), std::string::npos)
-      << once.message;
+
+  near_side.clear ();
+  reconstruction.setBaseRetries (2);
+  reconstruction.reconstruct (polygons);
+  const auto& retried = reconstruction.getReport ();
+  ASSERT_EQ (near_side.size (), 1u);
+  EXPECT_NE (near_side[0].find ("on planes"), std::string::npos) << near_side[0];
+  ASSERT_TRUE (retried.success) << retried.message;
+  expectClosedGenusZero (polygons, range (retried.num_points));
+  EXPECT_TRUE (retried.near_side_rings);
+  EXPECT_TRUE (retried.near_side_sphere_fit) << "the spheres' run replaced the planes'";
+  EXPECT_EQ (retried.base_retries, 0u) << "a mesh that turns back goes to the near side at once";
 }
 
 TEST (SphericalMeshlessReconstruction, RawFoldsAreRepairedBeforeTheSwaps)
