@@ -419,7 +419,8 @@ Conductor::joinPiecesOfOneSurface ()
         min_joins_along) {
       pieces_hint_ = " (" + std::to_string (timesNeighbours (factor, options_.k)) +
                      " neighbours join its pieces only across their surfaces: separate "
-                     "objects)";
+                     "objects, or a thin part sampled in rings farther apart than "
+                     "their points)";
       return false;
     }
     neighbourhoods_ = std::move (wider);
