@@ -24,6 +24,7 @@
 #include <cstdio>
 #include <limits>
 #include <numeric>
+#include <optional>
 
 namespace pcl {
 namespace meshless {
@@ -202,7 +203,7 @@ private:
   void
   finishAndRetry ();
   bool
-  finalVerdict ();
+  finalVerdict (std::optional<std::size_t> separated, bool replaced_apart);
   int
   handlesWithDenserNeighbourhoods () const;
   Neighbourhoods
@@ -214,7 +215,7 @@ private:
   std::string
   turnsBackMessage () const;
   bool
-  countSeparatedNeighbours ();
+  countSeparatedNeighbours (std::optional<std::size_t> counted);
   std::string
   cutMessage () const;
   void
@@ -622,16 +623,20 @@ Conductor::turnsBackMessage () const
 
 /** \brief Counts the neighbours on one side of the surface that the closed mesh
   * puts far apart (report.separated_neighbours): a handle whose tube it cut and
-  * capped, which neither a fold nor the area facing against the normals shows.
+  * capped, which neither a fold nor the area facing against the normals shows;
+  * `counted` if the retries counted them on this mesh already.
   * \return false if the progress callback cancelled */
 bool
-Conductor::countSeparatedNeighbours ()
+Conductor::countSeparatedNeighbours (std::optional<std::size_t> counted)
 {
   ReconstructionReport& report = result_.report;
   clock_.restart ();
-  report.separated_neighbours = neighboursSeparatedByTheMesh (
-      points_, result_.triangles, neighbourhoods_.neighbours, result_.normals,
-      max_neighbour_hops, static_cast<int> (options_.num_threads));
+  report.separated_neighbours =
+      counted ? *counted
+              : neighboursSeparatedByTheMesh (points_, result_.triangles,
+                                              neighbourhoods_.neighbours, result_.normals,
+                                              max_neighbour_hops,
+                                              static_cast<int> (options_.num_threads));
   return clock_.done ("handle check", 1.0,
                       std::to_string (report.separated_neighbours) +
                           " neighbour pairs far apart on the mesh");
@@ -655,7 +660,7 @@ Conductor::cutMessage () const
 }
 
 bool
-Conductor::finalVerdict ()
+Conductor::finalVerdict (std::optional<std::size_t> separated, bool replaced_apart)
 {
   ReconstructionReport& report = result_.report;
   const bool turns_back =
@@ -665,14 +670,15 @@ Conductor::finalVerdict ()
   // A result of the near side's rings may stand in for one that turned back: the
   // handles are looked for as if it had.
   const int genus =
-      turns_back || report.near_side_rings ? handlesWithDenserNeighbourhoods () : 0;
+      turns_back || report.near_side_rings || replaced_apart ? handlesWithDenserNeighbourhoods ()
+                                                             : 0;
   if (genus > 0) {
     report.stats.genus = genus;
     return fail (handlesRefusal (genus));
   }
   if (turns_back)
     return fail (turnsBackMessage ());
-  if (closed_ && !countSeparatedNeighbours ())
+  if (closed_ && !countSeparatedNeighbours (separated))
     return fail ("cancelled by the progress callback");
   if (report.separated_neighbours > max_separated_neighbours) {
     if (options_.topology == Topology::Closed)
@@ -770,7 +776,7 @@ Conductor::finishAndRetry ()
     fail ("cancelled by the progress callback");
     return;
   }
-  finalVerdict ();
+  finalVerdict (policy.separatedNeighbours (), policy.replacedOneKeepingNeighboursApart ());
 }
 
 } // namespace

@@ -310,8 +310,25 @@ RetryPolicy::RetryPolicy (const Points3& points, const CsrGraph& neighbours,
 , current_ (current)
 , clock_ (clock)
 , neighbours_ (&neighbours)
+, first_neighbours_ (neighbours)
 {
   finisher_.useNeighbours (neighbours_);
+}
+
+bool
+RetryPolicy::defective () const
+{
+  return current_.report.mesh.self_intersecting_pairs > 0 || apart_;
+}
+
+std::optional<std::size_t>
+RetryPolicy::separatedNeighbours (const Triangles& triangles, const Normals& normals) const
+{
+  if (options_.topology != Topology::Sphere)
+    return std::nullopt;
+  return neighboursSeparatedByTheMesh (points_, triangles, first_neighbours_, normals,
+                                       max_neighbour_hops,
+                                       static_cast<int> (options_.num_threads));
 }
 
 bool
@@ -339,9 +356,22 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
   FinishedMesh finished;
   double against = 0.0;
   std::size_t distant = 0;
-  if (finisher_.finish (other.triangles, other.normals, finished).empty () &&
-      finished.mesh.self_intersecting_pairs < current_.report.mesh.self_intersecting_pairs &&
-      !finisher_.turnsBack (other.triangles, other.normals, finished.mesh, against, distant)) {
+  // Where the result keeps neighbours apart, only a run without pairs that does not
+  // replaces it; where it has pairs, one with fewer, which may keep them apart.
+  if (!finisher_.finish (other.triangles, other.normals, finished).empty () ||
+      finished.mesh.self_intersecting_pairs >=
+          (apart_ ? 1 : current_.report.mesh.self_intersecting_pairs) ||
+      finisher_.turnsBack (other.triangles, other.normals, finished.mesh, against, distant))
+    return attempt;
+  const std::optional<std::size_t> separated =
+      finished.mesh.self_intersecting_pairs == 0
+          ? separatedNeighbours (other.triangles, other.normals)
+          : std::nullopt;
+  const bool apart = separated && *separated > max_separated_neighbours;
+  if (!apart_ || !apart) {
+    replaced_apart_ = replaced_apart_ || apart_;
+    separated_ = separated;
+    apart_ = apart;
     current_.triangles = std::move (other.triangles);
     current_.normals = std::move (other.normals);
     current_.report.stats = other.stats;
@@ -366,7 +396,7 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
   // meshes may then run.
   int last_attempt = first.base_attempt;
   ReconstructionReport& report = current_.report;
-  if (report.mesh.self_intersecting_pairs > 0 && first.thin_part_edges > 0) {
+  if (defective () && first.thin_part_edges > 0) {
     SpherePipelineOptions thin = options;
     thin.separate_thin_sheets = true;
     bool kept = false;
@@ -383,14 +413,13 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
   // boundary): another layout may hide the handle behind a membrane. Rings that
   // fold around a limb a few points across turn a genus-0 mesh back too; the
   // near side's run is tried, kept only if it does not turn back before its repair.
-  if (!options_.base_faces.empty () || report.mesh.self_intersecting_pairs == 0)
+  if (!options_.base_faces.empty () || !defective ())
     return;
   if (currentTurnsBack ()) {
     tryNearSide (options);
     return;
   }
-  for (int retry = 0; retry < options_.base_retries && report.mesh.self_intersecting_pairs > 0;
-       ++retry) {
+  for (int retry = 0; retry < options_.base_retries && defective (); ++retry) {
     SpherePipelineOptions next = options;
     next.first_attempt = last_attempt + 1;
     ++report.base_retries;
@@ -402,7 +431,7 @@ RetryPolicy::retrySequence (SpherePipelineOptions options, const SpherePipelineS
   }
   // Around a part only a few point spacings across, rings that reach its far side
   // fold the patches: rings of the near side only (see OrderingOptions).
-  if (report.mesh.self_intersecting_pairs > 0)
+  if (defective ())
     tryNearSide (options);
 }
 
@@ -415,7 +444,7 @@ RetryPolicy::tryNearSide (const SpherePipelineOptions& options)
     return;
   near_side_tried_ = true; // once: not again on k + 2 neighbours
   for (const NormalFit fit : near_side_fits) {
-    if (current_.report.mesh.self_intersecting_pairs == 0)
+    if (!defective ())
       return;
     if (on_the_near_side && fit == options.normal_fit)
       continue; // the run retried was this one
@@ -466,6 +495,7 @@ RetryPolicy::convexHullFallback ()
   if (report.convex_hull && finisher_.finish (hull, current_.normals, finished).empty () &&
       finished.mesh.self_intersecting_pairs == 0) {
     current_.triangles = std::move (hull);
+    separated_.reset ();
     current_.adopt (std::move (finished));
     clock_.restart ();
     clock_.done ("hull", 1.0, std::to_string (current_.triangles.size ()) + " triangles");
@@ -478,9 +508,14 @@ bool
 RetryPolicy::run (const SpherePipelineOptions& first_options, const NeighbourSearch& search)
 {
   ReconstructionReport& report = current_.report;
+  if (report.mesh.self_intersecting_pairs == 0 && options_.base_faces.empty () &&
+      options_.base_retries > 0) {
+    separated_ = separatedNeighbours (current_.triangles, current_.normals);
+    apart_ = separated_ && *separated_ > max_separated_neighbours;
+  }
   retrySequence (first_options, report.stats);
   if (options_.base_faces.empty () && options_.radius == 0.0 && options_.base_retries > 0 &&
-      report.mesh.self_intersecting_pairs > 0 && !currentTurnsBack () &&
+      defective () && !currentTurnsBack () &&
       static_cast<std::size_t> (std::max (options_.k, report.neighbours_k)) + 2 < points_.size () &&
       !retryDenser (first_options, search))
     return false;

@@ -8,6 +8,7 @@
 
 #include <pcl/surface/meshless/reconstruct.h>
 
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -157,10 +158,12 @@ private:
   std::vector<std::pair<std::size_t, std::size_t>> raw_pairs_;
 };
 
-/** \brief The sphere pipeline's retries while the result intersects itself: thin
-  * parts separated, further base meshes, the whole sequence on k + 2 neighbours,
-  * and for a small cloud in convex position its hull. A run replaces the result
-  * only if it is valid, does not turn back and intersects itself less. */
+/** \brief The sphere pipeline's retries while the result intersects itself, or (sphere
+  * topology) keeps neighbours on one side of the surface far apart on the mesh, as a
+  * mesh across a part thinner than the spacing does: thin parts separated, further
+  * base meshes, the whole sequence on k + 2 neighbours, and for a small cloud in
+  * convex position its hull. A run replaces the result only if it is valid, does
+  * not turn back and intersects itself less, or no longer keeps neighbours apart. */
 class RetryPolicy
 {
 public:
@@ -173,6 +176,20 @@ public:
     * \return false if the progress callback cancelled. */
   bool
   run (const SpherePipelineOptions& first_options, const NeighbourSearch& search);
+
+  /** \brief The neighbours the result keeps apart, if the retries counted them. */
+  std::optional<std::size_t>
+  separatedNeighbours () const
+  {
+    return separated_;
+  }
+
+  /** \brief Whether a run replaced a result that kept neighbours apart. */
+  bool
+  replacedOneKeepingNeighboursApart () const
+  {
+    return replaced_apart_;
+  }
 
   /** \brief Whether the current result turns back (records the figures in the
     * report). */
@@ -206,6 +223,13 @@ public:
   retrySequence (SpherePipelineOptions options, const SpherePipelineStats& first);
 
 private:
+  /** \brief Whether the result still has what the retries look to remove. */
+  bool
+  defective () const;
+  /** \brief The neighbours (of the first run) that a mesh keeps apart
+    * (neighboursSeparatedByTheMesh), counted in the sphere topology only. */
+  std::optional<std::size_t>
+  separatedNeighbours (const Triangles& triangles, const Normals& normals) const;
   bool
   retryDenser (const SpherePipelineOptions& first_options, const NeighbourSearch& search);
   void
@@ -217,6 +241,10 @@ private:
   CurrentResult& current_;
   StageClock& clock_;
   const CsrGraph* neighbours_ = nullptr;
+  const CsrGraph& first_neighbours_;
+  std::optional<std::size_t> separated_; // the result's, where counted
+  bool apart_ = false; // the result has no pairs but keeps neighbours apart
+  bool replaced_apart_ = false;
   bool denser_ = false;
   bool near_side_tried_ = false;
   int denser_k_ = 0;

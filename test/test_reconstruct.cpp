@@ -246,4 +246,53 @@ TEST_F (RetryPolicyTest, FurtherBaseMeshesStopOnceClean)
   EXPECT_EQ (untouched.report.base_retries, 0u);
 }
 
+/** The first result with two far points' labels swapped in its triangles: still a
+  * closed mesh, but the neighbours of each lie far from it on the mesh, as across a
+  * plate thinner than the spacing that the mesh interleaves. */
+TEST_F (RetryPolicyTest, FurtherBaseMeshesWhileTheResultKeepsNeighboursApart)
+{
+  const pcl::index_t u = 0;
+  pcl::index_t w = 0;
+  for (std::size_t v = 0; v < points_.size (); ++v)
+    if ((points_[v] - points_[u]).norm () > (points_[w] - points_[u]).norm ())
+      w = static_cast<pcl::index_t> (v);
+  const Triangles clean = current_.triangles;
+  const Normals normals = current_.normals;
+  for (Triangle& t : current_.triangles)
+    for (pcl::index_t& v : t)
+      v = v == u ? w : v == w ? u : v;
+  ASSERT_GT (neighboursSeparatedByTheMesh (points_, current_.triangles, neighbours_,
+                                           current_.normals, max_neighbour_hops, 1),
+             max_separated_neighbours);
+  const Triangles swapped = current_.triangles;
+  current_.report.mesh.self_intersecting_pairs = 0; // pretend no pairs: only apart
+
+  MeshFinisher finisher (points_, options_, current_, clock_);
+  RetryPolicy policy (points_, neighbours_, options_, finisher, current_, clock_);
+  ASSERT_TRUE (policy.run (pipeline_, {}));
+  EXPECT_GE (current_.report.base_retries, 1u);
+  EXPECT_TRUE (current_.report.base_retry_kept);
+  EXPECT_TRUE (policy.replacedOneKeepingNeighboursApart ());
+  EXPECT_NE (current_.triangles, swapped);
+  EXPECT_EQ (current_.report.mesh.self_intersecting_pairs, 0u);
+  ASSERT_TRUE (policy.separatedNeighbours ().has_value ());
+  EXPECT_LE (*policy.separatedNeighbours (), max_separated_neighbours);
+  EXPECT_EQ (*policy.separatedNeighbours (),
+             neighboursSeparatedByTheMesh (points_, current_.triangles, neighbours_,
+                                           current_.normals, max_neighbour_hops, 1));
+
+  // The clean first result keeps none apart: nothing is retried.
+  CurrentResult untouched;
+  untouched.triangles = clean;
+  untouched.normals = normals;
+  MeshFinisher other_finisher (points_, options_, untouched, clock_);
+  RetryPolicy none (points_, neighbours_, options_, other_finisher, untouched, clock_);
+  ASSERT_TRUE (none.run (pipeline_, {}));
+  EXPECT_EQ (untouched.report.base_retries, 0u);
+  EXPECT_FALSE (none.replacedOneKeepingNeighboursApart ());
+  EXPECT_EQ (untouched.triangles, clean);
+  ASSERT_TRUE (none.separatedNeighbours ().has_value ());
+  EXPECT_LE (*none.separatedNeighbours (), max_separated_neighbours);
+}
+
 } // namespace
