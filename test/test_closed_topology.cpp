@@ -324,6 +324,32 @@ TEST (ClosedTopology, SphereTopologyRefusesACloudWithHandlesNamingTheGenus)
   }
 }
 
+TEST (ClosedTopology, SphereTopologyRefusesAHandleEvenWhereItsRetriesRan)
+{
+  // Fat tori of 1,000 points at 10:1 density: where the first mesh cut the handle,
+  // the retries look for a mesh keeping no neighbours apart, and a membrane over
+  // the small hole is one. Every member must still be refused, naming its genus.
+  std::size_t retried = 0;
+  for (std::uint32_t seed = 1; seed <= 4; ++seed) {
+    SCOPED_TRACE ("seed " + std::to_string (seed));
+    pcl::meshless::SyntheticCloudOptions options;
+    options.num_points = 1000;
+    options.seed = seed;
+    options.uneven = 10.0;
+    const auto cloud = toCloud (pcl::meshless::sampleShape (SyntheticShape::FatTorus, options));
+    Reconstruction reconstruction;
+    reconstruction.setInputCloud (cloud);
+    std::vector<pcl::Vertices> polygons;
+    reconstruction.reconstruct (polygons);
+    const auto& report = reconstruction.getReport ();
+    EXPECT_FALSE (report.success);
+    EXPECT_TRUE (polygons.empty ());
+    EXPECT_NE (report.message.find ("genus 1"), std::string::npos) << report.message;
+    retried += report.base_retries > 0 || report.neighbours_k > 12 ? 1 : 0;
+  }
+  EXPECT_GE (retried, 1u) << "no member reached the retries";
+}
+
 TEST (ClosedTopology, UserBaseMeshOfGenusOneWithPolygonalFaces)
 {
   const pcl::meshless::Points3 points =
