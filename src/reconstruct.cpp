@@ -394,7 +394,9 @@ Conductor::surfaceGraphsOf (const Neighbourhoods& neighbourhoods) const
   * surface, replace them, once a run has failed on the pieces (the check would cost
   * every run a pass over the graph). Not for open surfaces: a scan's shadow would
   * be bridged. Separate objects stay apart: far apart, no wider neighbourhood
-  * joins them; nearly touching, the joins run across their surfaces.
+  * joins them; nearly touching, the joins run across their surfaces (as they seem
+  * to round a thin part sampled in rings far apart, whose rings' planes stand
+  * across it).
   * \return true if they were replaced (and the stage line says so). */
 bool
 Conductor::joinPiecesOfOneSurface ()
@@ -630,13 +632,14 @@ bool
 Conductor::countSeparatedNeighbours (std::optional<std::size_t> counted)
 {
   ReconstructionReport& report = result_.report;
+  if (counted) {
+    report.separated_neighbours = *counted;
+    return !cancelled_;
+  }
   clock_.restart ();
-  report.separated_neighbours =
-      counted ? *counted
-              : neighboursSeparatedByTheMesh (points_, result_.triangles,
-                                              neighbourhoods_.neighbours, result_.normals,
-                                              max_neighbour_hops,
-                                              static_cast<int> (options_.num_threads));
+  report.separated_neighbours = neighboursSeparatedByTheMesh (
+      points_, result_.triangles, neighbourhoods_.neighbours, result_.normals,
+      max_neighbour_hops, static_cast<int> (options_.num_threads));
   return clock_.done ("handle check", 1.0,
                       std::to_string (report.separated_neighbours) +
                           " neighbour pairs far apart on the mesh");

@@ -322,13 +322,18 @@ RetryPolicy::defective () const
 }
 
 std::optional<std::size_t>
-RetryPolicy::separatedNeighbours (const Triangles& triangles, const Normals& normals) const
+RetryPolicy::separatedNeighbours (const Triangles& triangles, const Normals& normals)
 {
-  if (options_.topology != Topology::Sphere)
+  // Without the intersection check no retry runs, and the verdict counts them.
+  if (options_.topology != Topology::Sphere || !options_.check_self_intersections)
     return std::nullopt;
-  return neighboursSeparatedByTheMesh (points_, triangles, first_neighbours_, normals,
-                                       max_neighbour_hops,
-                                       static_cast<int> (options_.num_threads));
+  clock_.restart ();
+  const std::size_t separated = neighboursSeparatedByTheMesh (
+      points_, triangles, first_neighbours_, normals, max_neighbour_hops,
+      static_cast<int> (options_.num_threads));
+  clock_.done ("handle check", 1.0,
+               std::to_string (separated) + " neighbour pairs far apart on the mesh");
+  return separated;
 }
 
 bool
@@ -356,8 +361,8 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
   FinishedMesh finished;
   double against = 0.0;
   std::size_t distant = 0;
-  // Where the result keeps neighbours apart, only a run without pairs that does not
-  // replaces it; where it has pairs, one with fewer, which may keep them apart.
+  // Where the result keeps neighbours apart, only a run without pairs that keeps
+  // none apart replaces it; where it has pairs, one with fewer, which may.
   if (!finisher_.finish (other.triangles, other.normals, finished).empty () ||
       finished.mesh.self_intersecting_pairs >=
           (apart_ ? 1 : current_.report.mesh.self_intersecting_pairs) ||
@@ -461,7 +466,7 @@ RetryPolicy::retryDenser (const SpherePipelineOptions& first_options,
 {
   // Where a part is only a few points across, k neighbours may leave a point's ring
   // one-sided or spanning the part; two more close it. Costs up to as many runs
-  // again, only on clouds that would otherwise keep their pairs.
+  // again, only on clouds that would otherwise keep their pairs or neighbours apart.
   clock_.restart ();
   // Two more than the first run used (a closed run may have needed 2k already).
   denser_k_ = std::max (options_.k, current_.report.neighbours_k) + 2;
@@ -508,6 +513,8 @@ bool
 RetryPolicy::run (const SpherePipelineOptions& first_options, const NeighbourSearch& search)
 {
   ReconstructionReport& report = current_.report;
+  if (clock_.cancelled ())
+    return false;
   if (report.mesh.self_intersecting_pairs == 0 && options_.base_faces.empty () &&
       options_.base_retries > 0) {
     separated_ = separatedNeighbours (current_.triangles, current_.normals);

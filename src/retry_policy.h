@@ -196,9 +196,9 @@ public:
   bool
   currentTurnsBack ();
   /** \brief Once per call: runs on rings of the near side only (nearSideOptions),
-    * one per fit of near_side_fits while pairs are left (after `options`' own fit
-    * if they are the near side's already), each kept if it does not turn back
-    * before its repair and leaves fewer pairs. */
+    * one per fit of near_side_fits while pairs (or neighbours kept apart) are left
+    * (after `options`' own fit if they are the near side's already), each kept if it
+    * does not turn back before its repair and is better (see tryAnother). */
   void
   tryNearSide (const SpherePipelineOptions& options);
 
@@ -227,9 +227,10 @@ private:
   bool
   defective () const;
   /** \brief The neighbours (of the first run) that a mesh keeps apart
-    * (neighboursSeparatedByTheMesh), counted in the sphere topology only. */
+    * (neighboursSeparatedByTheMesh), counted in the sphere topology with the
+    * intersection check on. */
   std::optional<std::size_t>
-  separatedNeighbours (const Triangles& triangles, const Normals& normals) const;
+  separatedNeighbours (const Triangles& triangles, const Normals& normals);
   bool
   retryDenser (const SpherePipelineOptions& first_options, const NeighbourSearch& search);
   void

@@ -246,9 +246,9 @@ TEST_F (RetryPolicyTest, FurtherBaseMeshesStopOnceClean)
   EXPECT_EQ (untouched.report.base_retries, 0u);
 }
 
-/** The first result with two far points' labels swapped in its triangles: still a
-  * closed mesh, but the neighbours of each lie far from it on the mesh, as across a
-  * plate thinner than the spacing that the mesh interleaves. */
+/** The first result with two far points' labels swapped in its triangles: still
+  * closed, but the neighbours of each lie far from it on the mesh. Its pairs are
+  * pretended away, so that only the neighbours kept apart call for the retries. */
 TEST_F (RetryPolicyTest, FurtherBaseMeshesWhileTheResultKeepsNeighboursApart)
 {
   const pcl::index_t u = 0;
@@ -280,6 +280,19 @@ TEST_F (RetryPolicyTest, FurtherBaseMeshesWhileTheResultKeepsNeighboursApart)
   EXPECT_EQ (*policy.separatedNeighbours (),
              neighboursSeparatedByTheMesh (points_, current_.triangles, neighbours_,
                                            current_.normals, max_neighbour_hops, 1));
+
+  // Without the intersection check nothing is counted, and nothing retried.
+  CurrentResult unchecked;
+  unchecked.triangles = swapped;
+  unchecked.normals = normals;
+  ReconstructionOptions no_check = options_;
+  no_check.check_self_intersections = false;
+  MeshFinisher unchecked_finisher (points_, no_check, unchecked, clock_);
+  RetryPolicy off (points_, neighbours_, no_check, unchecked_finisher, unchecked, clock_);
+  ASSERT_TRUE (off.run (pipeline_, {}));
+  EXPECT_EQ (unchecked.report.base_retries, 0u);
+  EXPECT_FALSE (off.separatedNeighbours ().has_value ());
+  EXPECT_EQ (unchecked.triangles, swapped);
 
   // The clean first result keeps none apart: nothing is retried.
   CurrentResult untouched;

@@ -39,6 +39,13 @@ public:
     return !cancelled_;
   }
 
+  /** \brief Whether the callback has cancelled. */
+  bool
+  cancelled () const
+  {
+    return cancelled_;
+  }
+
 private:
   using Clock = std::chrono::steady_clock;
   const ProgressCallback& callback_;
