@@ -227,11 +227,14 @@ public:
 
   /** \brief Sphere topology: how many further base meshes (the next rotations and
     * polyhedra) to try when the result still intersects itself after the swaps and
-    * the repair; the result with the fewest intersecting pairs is kept. If pairs
+    * the repair, or keeps neighbours on one side of the surface far apart on the
+    * mesh (getReport ().separated_neighbours: a mesh across a part thinner than the
+    * spacing); the result with the fewest intersecting pairs is kept. If they
     * remain, the whole sequence runs once more on k + 2 nearest neighbours (not
     * with a search radius; getReport ().neighbours_k says which k the result came
-    * from). Each try costs about one more run, and only runs with pairs left make
-    * them. 0 makes none of them; ignored with a user base mesh. Default 2. */
+    * from). Each try costs about one more run, and only runs left with pairs or
+    * neighbours apart make them. 0 makes none of them; ignored with a user base
+    * mesh. Default 2. */
   inline void
   setBaseRetries (int retries)
   {

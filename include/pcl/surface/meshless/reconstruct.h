@@ -68,8 +68,9 @@ struct ReconstructionOptions
   /** \brief Edge swaps after the raw triangulation. */
   bool optimize = true;
   SwapRules swaps;
-  /** \brief Further base meshes tried while the result intersects itself, then the
-    * same sequence on k + 2 neighbours; 0 makes none. */
+  /** \brief Further base meshes tried while the result intersects itself (or, sphere
+    * topology, keeps neighbours apart: see separated_neighbours), then the same
+    * sequence on k + 2 neighbours; 0 makes none. */
   int base_retries = 2;
   bool check_self_intersections = true;
   bool allow_self_intersections = false;
@@ -122,8 +123,9 @@ struct ReconstructionReport
     * on their convex hull, the pipeline failed or its mesh intersected itself, and
     * the hull is the result (convexHullThroughAll; not optimized). */
   bool convex_hull = false;
-  /** \brief Further base meshes tried because the result intersected itself, and
-    * whether one of them gave the result (fewer intersecting pairs). */
+  /** \brief Further base meshes tried because the result intersected itself or kept
+    * neighbours apart, and whether one of them gave the result (fewer intersecting
+    * pairs, or none and no neighbours kept apart). */
   std::size_t base_retries = 0;
   bool base_retry_kept = false;
   /** \brief The k of the neighbourhoods the result came from: the given one; two,
