@@ -322,7 +322,7 @@ RetryPolicy::defective () const
 }
 
 std::optional<std::size_t>
-RetryPolicy::separatedNeighbours (const Triangles& triangles, const Normals& normals)
+RetryPolicy::countSeparatedNeighbours (const Triangles& triangles, const Normals& normals)
 {
   // Without the intersection check no retry runs, and the verdict counts them.
   if (options_.topology != Topology::Sphere || !options_.check_self_intersections)
@@ -370,7 +370,7 @@ RetryPolicy::tryAnother (const SpherePipelineOptions& options, bool& kept,
     return attempt;
   const std::optional<std::size_t> separated =
       finished.mesh.self_intersecting_pairs == 0
-          ? separatedNeighbours (other.triangles, other.normals)
+          ? countSeparatedNeighbours (other.triangles, other.normals)
           : std::nullopt;
   const bool apart = separated && *separated > max_separated_neighbours;
   if (!apart_ || !apart) {
@@ -517,7 +517,7 @@ RetryPolicy::run (const SpherePipelineOptions& first_options, const NeighbourSea
     return false;
   if (report.mesh.self_intersecting_pairs == 0 && options_.base_faces.empty () &&
       options_.base_retries > 0) {
-    separated_ = separatedNeighbours (current_.triangles, current_.normals);
+    separated_ = countSeparatedNeighbours (current_.triangles, current_.normals);
     apart_ = separated_ && *separated_ > max_separated_neighbours;
   }
   retrySequence (first_options, report.stats);

@@ -230,7 +230,7 @@ private:
     * (neighboursSeparatedByTheMesh), counted in the sphere topology with the
     * intersection check on. */
   std::optional<std::size_t>
-  separatedNeighbours (const Triangles& triangles, const Normals& normals);
+  countSeparatedNeighbours (const Triangles& triangles, const Normals& normals);
   bool
   retryDenser (const SpherePipelineOptions& first_options, const NeighbourSearch& search);
   void
